@@ -1,0 +1,248 @@
+"""Per-child-frame time caches (tf2's TimeCache and StaticCache), clock-free and lock-free.
+
+Samples are kept oldest-first in parallel columns: ``stamps`` (int nanoseconds, a list so that
+``bisect`` runs at C speed), ``parents`` (frame ids) and ``data`` (an ``array('d')`` of seven
+doubles per sample: qx qy qz qw tx ty tz). Pruned samples are skipped with a start offset ``lo``
+and compacted in batches, which keeps pruning O(1) amortised with tf2's exact semantics.
+The newest sample is also kept as a ready-made tuple, ``latest`` = (stamp, parent, qx, qy, qz,
+qw, tx, ty, tz), for the hot "latest" path. The owner (``_core.BufferCore``) does the locking.
+"""
+
+from __future__ import annotations
+
+import math
+from array import array
+from bisect import bisect_right
+from struct import Struct
+
+__all__ = ["NO_DATA", "Sample", "StaticCache", "TimeCache", "extrapolation_error"]
+
+Sample = tuple  # (stamp_ns, parent_id, qx, qy, qz, qw, tx, ty, tz)
+
+# Extrapolation error codes, shared with _core (values match tf2's TF2Error order).
+FORWARD = 3
+BACKWARD = 4
+NO_DATA = 5
+
+_REC = Struct("7d")
+_REC2 = Struct("14d")
+_STRIDE = 7
+_COMPACT_MIN = 32
+
+
+def _fmt_time(ns: int) -> str:
+    """tf2's displayTimePoint: float seconds with six decimals."""
+    sec, nsec = divmod(ns, 1_000_000_000)
+    return "%.6f" % (sec + nsec * 1e-9)
+
+
+def extrapolation_error(code: int, t: int, bound: int) -> str:
+    """tf2's (ROS 2) extrapolation text for ``code`` at requested time ``t``."""
+    if code == FORWARD:
+        return (
+            "Lookup would require extrapolation into the future.  Requested time %s but the latest data"
+            " is at time %s" % (_fmt_time(t), _fmt_time(bound))
+        )
+    if code == BACKWARD:
+        return (
+            "Lookup would require extrapolation into the past.  Requested time %s but the earliest data"
+            " is at time %s" % (_fmt_time(t), _fmt_time(bound))
+        )
+    return "Lookup would require extrapolation at time %s, but only time %s is in the buffer" % (
+        _fmt_time(t),
+        _fmt_time(bound),
+    )
+
+
+def slerp(
+    x1: float, y1: float, z1: float, w1: float, x2: float, y2: float, z2: float, w2: float, r: float
+) -> tuple[float, float, float, float]:
+    """tf2's Quaternion::slerp: shortest path, angle 0 gives the first quaternion, no normalisation."""
+    d = x1 * x2 + y1 * y2 + z1 * z2 + w1 * w2
+    s = math.sqrt((x1 * x1 + y1 * y1 + z1 * z1 + w1 * w1) * (x2 * x2 + y2 * y2 + z2 * z2 + w2 * w2))
+    if d < 0.0:
+        theta = math.acos(-d / s)
+        x2, y2, z2, w2 = -x2, -y2, -z2, -w2
+    else:
+        theta = math.acos(d / s)
+    if theta == 0.0:
+        return x1, y1, z1, w1
+    k = 1.0 / math.sin(theta)
+    s0 = math.sin((1.0 - r) * theta)
+    s1 = math.sin(r * theta)
+    return (x1 * s0 + x2 * s1) * k, (y1 * s0 + y2 * s1) * k, (z1 * s0 + z2 * s1) * k, (w1 * s0 + w2 * s1) * k
+
+
+class StaticCache:
+    """One value valid at every time (tf2's StaticCache); re-inserting overwrites it."""
+
+    __slots__ = ("latest",)
+    static = True
+
+    def __init__(self) -> None:
+        self.latest: Sample | None = None
+
+    def insert(self, sample: Sample) -> bool:
+        """Store ``sample`` (its stamp is kept but never used: static data has stamp 0)."""
+        self.latest = (0, *sample[1:])
+        return True
+
+    def sample_at(self, t: int) -> Sample | None:
+        """The stored value, whatever ``t``."""
+        return self.latest
+
+    def error_at(self, t: int) -> tuple[int, str]:  # pragma: no cover - a static cache never fails
+        """Never called: static data is valid at every time."""
+        return NO_DATA, extrapolation_error(NO_DATA, t, 0)
+
+    def clear(self) -> None:
+        """Static values survive ``clear()``."""
+
+    def latest_stamp_and_parent(self) -> tuple[int, int]:
+        """(0, parent): static links do not constrain the latest common time."""
+        return 0, self.latest[1]
+
+    def oldest_stamp(self) -> int:
+        """Always 0."""
+        return 0
+
+    def __len__(self) -> int:
+        return 1
+
+
+class TimeCache:
+    """Time-stamped samples of one child frame, tf2 (ROS 2) TimeCache semantics."""
+
+    __slots__ = ("data", "latest", "lo", "max_ns", "parents", "stamps")
+    static = False
+
+    def __init__(self, max_ns: int) -> None:
+        self.max_ns = max_ns
+        self.stamps: list[int] = []
+        self.parents: list[int] = []
+        self.data = array("d")
+        self.lo = 0
+        self.latest: Sample | None = None
+
+    def __len__(self) -> int:
+        return len(self.stamps) - self.lo
+
+    def clear(self) -> None:
+        """Drop every sample."""
+        self.stamps = []
+        self.parents = []
+        self.data = array("d")
+        self.lo = 0
+        self.latest = None
+
+    def _record(self, i: int) -> Sample:
+        return (self.stamps[i], self.parents[i], *_REC.unpack_from(self.data, i * 56))
+
+    def insert(self, sample: Sample) -> bool:
+        """Insert ``sample``; False (TF_OLD_DATA) if older than newest - cache time.
+
+        As in ROS 2: prune first (entries older than the newest stamp minus the cache time), then
+        reject data older than that bound; a sample equal in every field to one already stored at the
+        same stamp is silently dropped, while same-stamp samples with different data are kept.
+        """
+        stamps = self.stamps
+        n = len(stamps)
+        lo = self.lo
+        t = sample[0]
+        if n > lo:
+            newest = stamps[-1]
+            limit = newest - self.max_ns
+            if stamps[lo] < limit:
+                lo += 1
+                while stamps[lo] < limit:
+                    lo += 1
+                self.lo = lo
+                if lo >= _COMPACT_MIN and lo * 8 >= n:
+                    self._compact()
+                    n = len(stamps := self.stamps)
+                    lo = 0
+            if t < limit:
+                return False
+            if t > newest:
+                stamps.append(t)
+                self.parents.append(sample[1])
+                self.data.extend(sample[2:])
+                self.latest = sample
+                return True
+            i = bisect_right(stamps, t, lo)
+            k = i - 1
+            while k >= lo and stamps[k] == t:
+                if self._record(k) == sample:
+                    return True  # exact duplicate: dropped, not an error
+                k -= 1
+        else:
+            i = n
+        stamps.insert(i, t)
+        self.parents.insert(i, sample[1])
+        self.data[i * _STRIDE : i * _STRIDE] = array("d", sample[2:])
+        if i == len(stamps) - 1:
+            self.latest = sample
+        return True
+
+    def _compact(self) -> None:
+        lo = self.lo
+        del self.stamps[:lo]
+        del self.parents[:lo]
+        del self.data[: lo * _STRIDE]
+        self.lo = 0
+
+    def sample_at(self, t: int) -> Sample | None:
+        """tf2's getData: the sample at ``t`` (0 = newest), interpolated if needed; None on error."""
+        stamps = self.stamps
+        lo = self.lo
+        n = len(stamps)
+        if n == lo:
+            return None
+        if t == 0:
+            return self.latest
+        if n - lo == 1:
+            return self.latest if stamps[lo] == t else None
+        newest = stamps[-1]
+        if t == newest:
+            return self.latest
+        if t == stamps[lo]:
+            return self._record(lo)
+        if t > newest or t < stamps[lo]:
+            return None
+        i = bisect_right(stamps, t, lo) - 1
+        s1 = stamps[i]
+        parents = self.parents
+        if s1 == t or parents[i] != parents[i + 1]:
+            return self._record(i)  # exact hit, or re-parenting: the older sample, no interpolation
+        x1, y1, z1, w1, ax, ay, az, x2, y2, z2, w2, bx, by, bz = _REC2.unpack_from(self.data, i * 56)
+        r = (t - s1) / (stamps[i + 1] - s1)
+        q = 1.0 - r
+        return (
+            t,
+            parents[i],
+            *slerp(x1, y1, z1, w1, x2, y2, z2, w2, r),
+            q * ax + r * bx,
+            q * ay + r * by,
+            q * az + r * bz,
+        )
+
+    def error_at(self, t: int) -> tuple[int, str]:
+        """The error code and tf2 text explaining why ``sample_at(t)`` returned None."""
+        stamps = self.stamps
+        lo = self.lo
+        if len(stamps) == lo:
+            return NO_DATA, extrapolation_error(NO_DATA, t, 0)
+        if len(stamps) - lo == 1:
+            return NO_DATA, extrapolation_error(NO_DATA, t, stamps[lo])
+        if t > stamps[-1]:
+            return FORWARD, extrapolation_error(FORWARD, t, stamps[-1])
+        return BACKWARD, extrapolation_error(BACKWARD, t, stamps[lo])
+
+    def latest_stamp_and_parent(self) -> tuple[int, int]:
+        """(newest stamp, its parent), or (0, 0) when empty."""
+        s = self.latest
+        return (0, 0) if s is None else (s[0], s[1])
+
+    def oldest_stamp(self) -> int:
+        """The oldest stamp held, 0 when empty."""
+        return self.stamps[self.lo] if len(self.stamps) > self.lo else 0

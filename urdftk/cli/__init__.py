@@ -1,0 +1,85 @@
+"""The ``urdftk`` console script: argparse subcommands, one module each (``urdftk/cli/cmd_*.py``).
+
+Each ``cmd_*`` module defines ``register(subparsers)``, which adds its subcommand and sets
+``func`` to a callable ``(args) -> int``. Modules import heavy libraries only inside ``func`` so
+that ``urdftk xacro`` starts fast.
+
+Every error a user can cause ends as one line on stderr and exit status 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import pkgutil
+import sys
+from collections.abc import Sequence
+
+__all__ = ["main"]
+
+
+class _Parser(argparse.ArgumentParser):
+    """ArgumentParser whose usage errors are one line and exit 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def _build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(
+        prog="urdftk",
+        description="Robot descriptions, kinematics and frames without ROS.",
+    )
+    from urdftk import __version__
+
+    parser.add_argument("--version", action="version", version=f"urdftk {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+    pkg_dir = os.path.dirname(__file__)
+    for info in sorted(pkgutil.iter_modules([pkg_dir]), key=lambda m: m.name):
+        if info.name.startswith("cmd_"):
+            module = importlib.import_module(f"{__name__}.{info.name}")
+            module.register(sub)
+    return parser
+
+
+def _is_user_error(exc: BaseException) -> bool:
+    from urdftk.errors import UrdftkError
+
+    if isinstance(exc, (UrdftkError, OSError, ValueError)):
+        return True
+    tf_mod = sys.modules.get("tf")
+    root = getattr(tf_mod, "TransformException", None) if tf_mod else None
+    return root is not None and isinstance(exc, root)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the ``urdftk`` command line.
+
+    Args:
+        argv: Arguments without the program name; ``sys.argv[1:]`` when None.
+
+    Returns:
+        The exit status: 0 success, 1 findings (``check``), 2 bad input or failure.
+    """
+    parser = _build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except KeyboardInterrupt:
+        return 130
+    except BrokenPipeError:
+        try:
+            sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - silence the flush at exit
+        except OSError:
+            pass
+        return 0
+    except Exception as exc:  # the CLI edge: one line, never a traceback
+        if os.environ.get("URDFTK_DEBUG"):
+            raise
+        text = " ".join(str(exc).split()) or type(exc).__name__
+        if not _is_user_error(exc):
+            text = f"internal error ({type(exc).__name__}): {text} (set URDFTK_DEBUG=1 for a traceback)"
+        print(f"urdftk {args.command}: error: {text}", file=sys.stderr)
+        return 2

@@ -1,0 +1,107 @@
+"""``urdftk.load``: a .urdf or .xacro file (or text) to a :class:`~urdftk.model.Robot`."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+from urdftk.description import parse_description
+from urdftk.errors import ResourceError
+from urdftk.resources import PackageResolver
+
+__all__ = ["expand", "is_xacro", "load"]
+
+
+def is_xacro(path: str | os.PathLike[str] | None, text: str) -> bool:
+    """Tell whether a document needs xacro expansion (by suffix, or by a xacro namespace)."""
+    if path is not None and str(path).endswith(".xacro"):
+        return True
+    head = text[:4096]
+    return "xmlns:xacro" in head or "<xacro:" in text
+
+
+def _looks_like_text(value: str) -> bool:
+    return value.lstrip().startswith("<")
+
+
+def expand(
+    path_or_text: str | os.PathLike[str],
+    *,
+    args: Mapping[str, str] | None = None,
+    package_paths: Iterable[str | os.PathLike[str]] | None = None,
+) -> tuple[str, str | None, PackageResolver]:
+    """Read a .urdf/.xacro file (or text) and return URDF text, its file name and the resolver.
+
+    Args:
+        path_or_text: A file path, or the XML text itself.
+        args: xacro arguments (``name:=value``).
+        package_paths: Extra folders to search for ROS packages first.
+
+    Returns:
+        ``(urdf_text, filename_or_None, resolver)``.
+
+    Raises:
+        ResourceError: If the file cannot be read.
+        XacroError: If xacro expansion fails.
+    """
+    pkg_paths = list(package_paths or ())
+    text: str
+    filename: str | None
+    if isinstance(path_or_text, str) and _looks_like_text(path_or_text):
+        text, filename = path_or_text, None
+    else:
+        p = Path(path_or_text)
+        try:
+            text = p.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            raise ResourceError(f"{p}: no such file") from None
+        except (OSError, UnicodeDecodeError) as exc:
+            raise ResourceError(f"{p}: cannot read: {exc}") from None
+        filename = str(p)
+    resolver = PackageResolver(pkg_paths, source=filename)
+    if is_xacro(filename, text):
+        from urdftk import xacro
+
+        mappings = dict(args or {})
+        if filename is not None:
+            text = xacro.process_file(filename, mappings, resolver=resolver)
+        else:
+            text = xacro.process_string(text, mappings, resolver=resolver)
+    return text, filename, resolver
+
+
+def load(
+    path_or_text: str | os.PathLike[str],
+    *,
+    args: Mapping[str, str] | None = None,
+    package_paths: Iterable[str | os.PathLike[str]] | None = None,
+    floating_base: bool = False,
+):  # -> Robot (annotation left out to keep Pinocchio out of import time)
+    """Load a robot from a .urdf or .xacro file, or from URDF/xacro text.
+
+    The text is expanded (xacro), parsed once safely, checked for structure, then given to
+    yourdfpy (the description) and to Pinocchio (the model): both see the same text.
+
+    Args:
+        path_or_text: A file path, or the XML text itself.
+        args: xacro arguments, as ``{"name": "value"}``.
+        package_paths: Extra folders to search for ROS packages (searched first).
+        floating_base: Put a free-flyer joint between the world and the root link.
+
+    Returns:
+        The :class:`~urdftk.model.Robot`.
+
+    Raises:
+        UrdftkError: A subclass naming the file and line for anything that cannot be loaded.
+
+    Example:
+        >>> robot = load("examples/robots/robot0_description/urdf/robot0.urdf")  # doctest: +SKIP
+        >>> robot.joint_names  # doctest: +SKIP
+        ('joint_1',)
+    """
+    from urdftk.model import Robot
+
+    text, filename, resolver = expand(path_or_text, args=args, package_paths=package_paths)
+    description = parse_description(text, filename, resolver)
+    return Robot(description, resolver=resolver, floating_base=floating_base)
