@@ -15,7 +15,7 @@ from array import array
 from bisect import bisect_right
 from struct import Struct
 
-__all__ = ["NO_DATA", "Sample", "StaticCache", "TimeCache", "extrapolation_error"]
+__all__ = ["NO_DATA", "Sample", "StaticCache", "TimeCache", "extrapolation_error", "slerp"]
 
 Sample = tuple  # (stamp_ns, parent_id, qx, qy, qz, qw, tx, ty, tz)
 
@@ -40,17 +40,17 @@ def extrapolation_error(code: int, t: int, bound: int) -> str:
     """tf2's (ROS 2) extrapolation text for ``code`` at requested time ``t``."""
     if code == FORWARD:
         return (
-            "Lookup would require extrapolation into the future.  Requested time %s but the latest data"
-            " is at time %s" % (_fmt_time(t), _fmt_time(bound))
+            "Lookup would require extrapolation into the future.  Requested time "
+            f"{_fmt_time(t)} but the latest data is at time {_fmt_time(bound)}"
         )
     if code == BACKWARD:
         return (
-            "Lookup would require extrapolation into the past.  Requested time %s but the earliest data"
-            " is at time %s" % (_fmt_time(t), _fmt_time(bound))
+            "Lookup would require extrapolation into the past.  Requested time "
+            f"{_fmt_time(t)} but the earliest data is at time {_fmt_time(bound)}"
         )
-    return "Lookup would require extrapolation at time %s, but only time %s is in the buffer" % (
-        _fmt_time(t),
-        _fmt_time(bound),
+    return (
+        f"Lookup would require extrapolation at time {_fmt_time(t)}, "
+        f"but only time {_fmt_time(bound)} is in the buffer"
     )
 
 

@@ -90,7 +90,23 @@ def canonical_rotation(x: float, y: float, z: float, w: float) -> tuple[float, f
 
     ROS 2's BufferCore stores the result in a ``tf2::Transform`` (a rotation matrix) before
     writing the message, so the returned quaternion is normalised, with tf2's sign choice.
+    Same arithmetic as ``quaternion_from_matrix(matrix_from_quaternion(...))``, inlined.
     """
+    s = 2.0 / (x * x + y * y + z * z + w * w)
+    xs, ys, zs = x * s, y * s, z * s
+    m00 = 1.0 - (y * ys + z * zs)
+    m11 = 1.0 - (x * xs + z * zs)
+    m22 = 1.0 - (x * xs + y * ys)
+    trace = m00 + m11 + m22
+    if trace > 0.0:
+        r = math.sqrt(trace + 1.0)
+        k = 0.5 / r
+        return (
+            (y * zs + w * xs - (y * zs - w * xs)) * k,
+            (x * zs + w * ys - (x * zs - w * ys)) * k,
+            (x * ys + w * zs - (x * ys - w * zs)) * k,
+            r * 0.5,
+        )
     return quaternion_from_matrix(matrix_from_quaternion(x, y, z, w))
 
 
@@ -99,7 +115,9 @@ def compose(a: Raw, b: Raw) -> Raw:
     ma = matrix_from_quaternion(*a[:4])
     mb = matrix_from_quaternion(*b[:4])
     m = tuple(
-        ma[3 * r] * mb[c] + ma[3 * r + 1] * mb[3 + c] + ma[3 * r + 2] * mb[6 + c] for r in range(3) for c in range(3)
+        ma[3 * r] * mb[c] + ma[3 * r + 1] * mb[3 + c] + ma[3 * r + 2] * mb[6 + c]
+        for r in range(3)
+        for c in range(3)
     )
     bx, by, bz = b[4:]
     return (

@@ -388,3 +388,39 @@ class JointState:
 
 
 (_JS_H, _JS_N, _JS_P, _JS_V, _JS_E) = _setters(JointState, "header", "name", "position", "velocity", "effort")
+
+
+def _transform_stamped(
+    stamp: Time,
+    frame_id: str,
+    child_frame_id: str,
+    tx: float,
+    ty: float,
+    tz: float,
+    qx: float,
+    qy: float,
+    qz: float,
+    qw: float,
+    _new: Any = object.__new__,
+) -> TransformStamped:
+    """Build a TransformStamped without five constructor calls (the buffer's lookup hot path)."""
+    v = _new(Vector3)
+    _V_X(v, tx)
+    _V_Y(v, ty)
+    _V_Z(v, tz)
+    q = _new(Quaternion)
+    _Q_X(q, qx)
+    _Q_Y(q, qy)
+    _Q_Z(q, qz)
+    _Q_W(q, qw)
+    tr = _new(Transform)
+    _TR_T(tr, v)
+    _TR_R(tr, q)
+    h = _new(Header)
+    _H_S(h, stamp)
+    _H_F(h, frame_id)
+    ts = _new(TransformStamped)
+    _TS_H(ts, h)
+    _TS_C(ts, child_frame_id)
+    _TS_T(ts, tr)
+    return ts

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import tempfile
 from pathlib import Path
@@ -34,8 +35,6 @@ def write_atomic(path: str | os.PathLike[str], data: str | bytes) -> None:
             os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, dest)
     except BaseException:
-        try:
+        with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
-        except FileNotFoundError:
-            pass
         raise

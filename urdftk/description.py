@@ -85,7 +85,9 @@ def structure_errors(root: etree._Element, tree: TreeInfo) -> list[tuple[int | N
     links = {link.name for link in tree.links}
     for j in tree.joints:
         if j.type not in JOINT_TYPES:
-            errors.append((j.line, f"joint '{j.name}' has unknown type '{j.type}' (expected one of {JOINT_TYPES})"))
+            errors.append(
+                (j.line, f"joint '{j.name}' has unknown type '{j.type}' (expected one of {JOINT_TYPES})")
+            )
         for role, link in (("parent", j.parent), ("child", j.child)):
             if not link:
                 errors.append((j.line, f"joint '{j.name}' has no <{role} link=...>"))
@@ -98,16 +100,24 @@ def structure_errors(root: etree._Element, tree: TreeInfo) -> list[tuple[int | N
             names = ", ".join(f"'{j.name}'" for j in js)
             errors.append((js[1].line, f"link '{child}' has {len(js)} parent joints ({names})"))
     if tree.cycle:
-        errors.append((tree.link_line(tree.cycle[0]), "kinematic loop through links " + " -> ".join(tree.cycle)))
+        errors.append(
+            (tree.link_line(tree.cycle[0]), "kinematic loop through links " + " -> ".join(tree.cycle))
+        )
     elif len(tree.roots) > 1:
         errors.append(
-            (tree.link_line(tree.roots[1]), f"robot has {len(tree.roots)} root links: {', '.join(tree.roots)}")
+            (
+                tree.link_line(tree.roots[1]),
+                f"robot has {len(tree.roots)} root links: {', '.join(tree.roots)}",
+            )
         )
     elif not tree.roots:
         errors.append((root.sourceline, "robot has no root link"))
     if tree.depth > MAX_TREE_DEPTH:
         errors.append(
-            (root.sourceline, f"kinematic chain is {tree.depth} joints deep; at most {MAX_TREE_DEPTH} are supported")
+            (
+                root.sourceline,
+                f"kinematic chain is {tree.depth} joints deep; at most {MAX_TREE_DEPTH} are supported",
+            )
         )
     return errors
 
@@ -133,7 +143,9 @@ def parse_description(
     errors = structure_errors(root, tree)
     if errors:
         line, msg = errors[0]
-        more = f" (and {len(errors) - 1} more problem(s); run `urdftk check` for all)" if len(errors) > 1 else ""
+        more = (
+            f" (and {len(errors) - 1} more problem(s); run `urdftk check` for all)" if len(errors) > 1 else ""
+        )
         raise DescriptionError(msg + more, filename, line)
     import yourdfpy
 

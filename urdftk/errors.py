@@ -79,13 +79,17 @@ class DescriptionError(UrdftkError):
     Attributes:
         filename: The file the text came from, if any.
         line: 1-based line of the offending element, if known.
+        column: 1-based column, if known.
     """
 
-    def __init__(self, message: str, filename: str | None = None, line: int | None = None):
+    def __init__(
+        self, message: str, filename: str | None = None, line: int | None = None, column: int | None = None
+    ):
         self.filename = filename
         self.line = line
+        self.column = column
         self.message = message
-        prefix = format_location(filename, line) + ": " if (filename or line) else ""
+        prefix = format_location(filename, line, column) + ": " if (filename or line) else ""
         super().__init__(prefix + message)
 
 

@@ -18,6 +18,7 @@ marked with ``CATKIN_IGNORE``, ``COLCON_IGNORE`` or ``AMENT_IGNORE``. A package 
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import site
@@ -76,9 +77,7 @@ def crawl_packages(root: str | os.PathLike[str]) -> dict[str, Path]:
             found.setdefault(folder.name, folder)
             continue
         subdirs = [
-            Path(e.path)
-            for e in entries
-            if not e.name.startswith(".") and e.is_dir(follow_symlinks=True)
+            Path(e.path) for e in entries if not e.name.startswith(".") and e.is_dir(follow_symlinks=True)
         ]
         stack.extend(sorted(subdirs, reverse=True))
     return found
@@ -106,10 +105,8 @@ def installed_prefixes() -> list[Path]:
     """
     prefixes: list[Path] = []
     site_dirs: list[str] = []
-    try:
+    with contextlib.suppress(AttributeError):  # very old virtualenvs lack it
         site_dirs.extend(site.getsitepackages())
-    except AttributeError:  # pragma: no cover - very old virtualenvs
-        pass
     user_site = site.getusersitepackages() if site.ENABLE_USER_SITE else None
     if user_site:
         site_dirs.append(user_site)
@@ -212,7 +209,9 @@ class PackageResolver:
         if use_installed:
             for prefix in installed_prefixes():
                 places.append(
-                    _Place(f"installed packages in {prefix / 'share'}", lambda p=prefix: _installed_packages(p))
+                    _Place(
+                        f"installed packages in {prefix / 'share'}", lambda p=prefix: _installed_packages(p)
+                    )
                 )
         self._places = places
 
@@ -275,7 +274,9 @@ class PackageResolver:
             text = unquote(text[len("file://") :])
         elif re.match(r"^[A-Za-z][A-Za-z0-9+.-]+://", text):
             scheme = text.split("://", 1)[0]
-            raise ResourceError(f"unsupported URI scheme '{scheme}://' in '{uri}' (use package:// or file://)")
+            raise ResourceError(
+                f"unsupported URI scheme '{scheme}://' in '{uri}' (use package:// or file://)"
+            )
         path = Path(text).expanduser()
         if path.is_absolute():
             return path

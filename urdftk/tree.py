@@ -95,7 +95,9 @@ def read_tree(root: etree._Element) -> TreeInfo:
         The structure; validity is judged by the caller.
     """
     links = [
-        LinkInfo(el.get("name") or "", el.sourceline, el) for el in root if isinstance(el.tag, str) and el.tag == "link"
+        LinkInfo(el.get("name") or "", el.sourceline, el)
+        for el in root
+        if isinstance(el.tag, str) and el.tag == "link"
     ]
     joints = [
         JointInfo(

@@ -80,7 +80,7 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> etree._Element:
     except etree.XMLSyntaxError as exc:
         line, col = exc.position if exc.position else (None, None)
         msg = str(exc.msg or exc).split(", line ")[0]
-        raise DescriptionError(f"malformed XML: {msg}", filename, line) from None
+        raise DescriptionError(f"malformed XML: {msg}", filename, line, col) from None
     except ValueError as exc:  # e.g. unsupported encodings
         raise DescriptionError(f"cannot parse XML: {exc}", filename) from None
     if root is None:

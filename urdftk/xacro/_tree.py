@@ -2,7 +2,9 @@
 
 Stock xacro's output depends on exactly which text nodes exist (adjacent text is never merged
 after parsing) and on attribute order, so the tree keeps both. Children are plain lists, which
-makes splicing a macro expansion into its parent one C-level slice assignment.
+makes splicing a macro expansion into its parent one C-level slice assignment. A text node is a
+plain ``str`` in its parent's list (cheap to copy); :class:`Text` objects are only used for the
+one node that must keep its identity (stock's shared blank node).
 
 Parsing never expands entities: a DOCTYPE or ENTITY declaration is an error.
 """
@@ -21,6 +23,7 @@ __all__ = [
     "Text",
     "XmlSyntaxError",
     "clone",
+    "mark_static",
     "parse_xml",
 ]
 
@@ -45,9 +48,13 @@ class XmlSyntaxError(XacroError):
 
 
 class Element:
-    """An element: qualified tag name, attributes in document order, child nodes."""
+    """An element: qualified tag name, attributes in document order, child nodes.
 
-    __slots__ = ("attrs", "children", "file", "line", "tag")
+    ``static`` marks a subtree of a macro body that evaluation cannot change (no ``$``, no xacro
+    tag or attribute, no comment that could be evaluated): it is shared, not copied, and skipped.
+    """
+
+    __slots__ = ("attrs", "children", "file", "line", "static", "tag")
 
     def __init__(self, tag: str, attrs: dict[str, str], line: int = 0, file: str | None = None):
         self.tag = tag
@@ -55,20 +62,20 @@ class Element:
         self.children: list = []
         self.line = line
         self.file = file
+        self.static = False
 
     def __repr__(self) -> str:
         return f"<Element {self.tag} at line {self.line}>"
 
 
 class Text:
-    """A text node; ``parent`` is only kept for the shared blank-line marker node."""
+    """A text node with an identity and a parent (only used for stock's shared blank node)."""
 
-    __slots__ = ("data", "line", "parent")
+    __slots__ = ("data", "parent")
 
-    def __init__(self, data: str, line: int = 0):
+    def __init__(self, data: str):
         self.data = data
-        self.line = line
-        self.parent = None
+        self.parent: Element | None = None
 
 
 class Comment:
@@ -101,97 +108,49 @@ class PI:
 
 
 def clone(el: Element) -> Element:
-    """Deep-copy an element (attribute dicts are shared: they are never mutated in place).
+    """Deep-copy an element: new elements and lists; text, comments and attribute dicts are shared.
+
+    Shared parts are never mutated in place (edits replace them in their list).
 
     Args:
         el: The element to copy.
 
     Returns:
-        A new element whose subtree holds new node objects.
+        The copy.
     """
     new = Element(el.tag, el.attrs, el.line, el.file)
-    out = new.children
-    for c in el.children:
-        cls = c.__class__
-        if cls is Text:
-            out.append(Text(c.data, c.line))
-        elif cls is Element:
-            out.append(clone(c))
-        elif cls is Comment:
-            out.append(Comment(c.data, c.line))
-        elif cls is CData:
-            out.append(CData(c.data))
-        else:
-            out.append(PI(c.target, c.data))
+    new.children = [_copy(c) if c.__class__ is Element or c.__class__ is Text else c for c in el.children]
     return new
 
 
-class _Builder:
-    """Expat callbacks that build the tree (text runs merged as minidom's builder does)."""
+def _copy(c):
+    if c.__class__ is Text:
+        return c.data
+    if c.static:
+        return c
+    return clone(c)
 
-    def __init__(self, parser, filename: str | None):
-        self.p = parser
-        self.file = filename
-        self.top: list = []  # document-level nodes
-        self.stack: list = []
-        self.cur = self.top
-        self.cdata = False
-        self.cdata_node: CData | None = None
 
-    def start(self, name, attributes):
-        attrs = {}
-        if attributes:
-            it = iter(attributes)
-            for k in it:
-                attrs[k] = next(it)
-            if any(k.startswith("xmlns") for k in attrs):  # minidom lists namespace declarations first
-                ns = {k: v for k, v in attrs.items() if k == "xmlns" or k.startswith("xmlns:")}
-                ns.update((k, v) for k, v in attrs.items() if k not in ns)
-                attrs = ns
-        el = Element(name, attrs, self.p.CurrentLineNumber, self.file)
-        self.cur.append(el)
-        self.stack.append(self.cur)
-        self.cur = el.children
-
-    def end(self, name):
-        self.cur = self.stack.pop()
-
-    def chars(self, data):
-        cur = self.cur
-        if self.cdata:
-            node = self.cdata_node
-            if node is not None and cur and cur[-1] is node:
-                node.data += data
-            else:
-                node = self.cdata_node = CData(data)
-                cur.append(node)
-            return
-        if cur and cur[-1].__class__ is Text:
-            cur[-1].data += data
-        elif cur is not self.top:
-            cur.append(Text(data, self.p.CurrentLineNumber))
-
-    def comment(self, data):
-        self.cur.append(Comment(data, self.p.CurrentLineNumber))
-
-    def pi(self, target, data):
-        self.cur.append(PI(target, data))
-
-    def start_cdata(self):
-        self.cdata = True
-        self.cdata_node = None
-
-    def end_cdata(self):
-        self.cdata = False
-        self.cdata_node = None
-
-    def doctype(self, *args):
-        raise XmlSyntaxError(
-            "DOCTYPE declarations are not allowed (entities could read files or expand without bound)",
-            self.file,
-            self.p.CurrentLineNumber,
-            self.p.CurrentColumnNumber + 1,
-        )
+def mark_static(el: Element) -> int:
+    """Set ``static`` on every element below ``el`` (and ``el``); return the subtree's node count."""
+    size = 1
+    static = el.tag[:6] != "xacro:" and not any(
+        "$" in v or k[:6] == "xacro:" or k == "xmlns:xacro" for k, v in el.attrs.items()
+    )
+    for c in el.children:
+        cls = c.__class__
+        if cls is Element:
+            size += mark_static(c)
+            static = static and c.static
+            continue
+        if cls is str:
+            if "$" in c:
+                static = False
+        elif cls is Comment and ("$" in c.data or "xacro:eval-comments" in c.data):
+            static = False
+        size += 1
+    el.static = static
+    return size
 
 
 def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Element]:
@@ -209,23 +168,81 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
         XmlSyntaxError: The text is not well-formed, or declares a DOCTYPE/ENTITY.
     """
     p = ParserCreate()
-    b = _Builder(p, filename)
+    top: list = []
+    stack: list = []
+    state: list = [top, False, None]  # current child list, inside CDATA, current CDATA node
+
+    def start(name, attributes):
+        if attributes:
+            it = iter(attributes)
+            attrs = dict(zip(it, it))
+            if "xmlns" in " ".join(attributes[::2]):  # minidom lists namespace declarations first
+                ns = {k: v for k, v in attrs.items() if k == "xmlns" or k.startswith("xmlns:")}
+                ns.update(attrs)
+                attrs = ns
+        else:
+            attrs = {}
+        el = Element(name, attrs, p.CurrentLineNumber, filename)
+        cur = state[0]
+        cur.append(el)
+        stack.append(cur)
+        state[0] = el.children
+
+    def end(name):
+        state[0] = stack.pop()
+
+    def chars(data):
+        cur = state[0]
+        if state[1]:
+            node = state[2]
+            if node is not None and cur and cur[-1] is node:
+                node.data += data
+            else:
+                node = state[2] = CData(data)
+                cur.append(node)
+        elif cur and cur[-1].__class__ is str:
+            cur[-1] += data
+        elif cur is not top:
+            cur.append(data)
+
+    def comment(data):
+        state[0].append(Comment(data, p.CurrentLineNumber))
+
+    def pi(target, data):
+        state[0].append(PI(target, data))
+
+    def start_cdata():
+        state[1] = True
+        state[2] = None
+
+    def end_cdata():
+        state[1] = False
+        state[2] = None
+
+    def doctype(*args):
+        raise XmlSyntaxError(
+            "DOCTYPE and ENTITY declarations are not allowed (entities could read files or expand without bound)",
+            filename,
+            p.CurrentLineNumber,
+            p.CurrentColumnNumber + 1,
+        )
+
     p.buffer_text = True
     p.ordered_attributes = True
-    p.StartElementHandler = b.start
-    p.EndElementHandler = b.end
-    p.CharacterDataHandler = b.chars
-    p.CommentHandler = b.comment
-    p.ProcessingInstructionHandler = b.pi
-    p.StartCdataSectionHandler = b.start_cdata
-    p.EndCdataSectionHandler = b.end_cdata
-    p.StartDoctypeDeclHandler = b.doctype
-    p.EntityDeclHandler = b.doctype
+    p.StartElementHandler = start
+    p.EndElementHandler = end
+    p.CharacterDataHandler = chars
+    p.CommentHandler = comment
+    p.ProcessingInstructionHandler = pi
+    p.StartCdataSectionHandler = start_cdata
+    p.EndCdataSectionHandler = end_cdata
+    p.StartDoctypeDeclHandler = doctype
+    p.EntityDeclHandler = doctype
     try:
         p.Parse(text, True)
     except ExpatError as e:
         raise XmlSyntaxError(errors.messages[e.code], filename, e.lineno, e.offset + 1) from None
-    root = next((n for n in b.top if n.__class__ is Element), None)
+    root = next((n for n in top if n.__class__ is Element), None)
     if root is None:  # pragma: no cover - expat reports "no element found" first
         raise XmlSyntaxError("no element found", filename, 1, 1)
-    return b.top, root
+    return top, root

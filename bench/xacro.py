@@ -1,0 +1,144 @@
+"""Benchmark: urdftk's xacro expander against stock xacro 2.1.1 on the real-robot corpus.
+
+Usage: python bench/xacro.py [--repeat N] [--only SUBSTRING] [--no-cli]
+
+1. In-process CPU time (``time.process_time``) per case, median of N runs each, stock's
+   ``process_file`` + ``toprettyxml`` against ``urdftk.xacro.expand``; also the first (cold) run.
+2. Whole-process CPU time (child rusage) of the ``urdftk xacro`` command against the stock
+   ``xacro`` command, per case (median of N runs).
+
+Stock resolves ``$(find)`` through ament_index_python: it gets a temporary ament prefix with the
+corpus packages; ours gets ROS_PACKAGE_PATH, as in the corpus checker. Ours must reproduce the
+expected output of every case (checked). Ratios are ours / stock, measured in this run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+CORPUS = Path(__file__).resolve().parents[2] / "shared" / "corpus" / "xacro"
+BIN = Path(sys.executable).parent
+
+
+def ament_prefix(root: Path, packages: dict[str, str]) -> Path:
+    index = root / "share" / "ament_index" / "resource_index" / "packages"
+    index.mkdir(parents=True, exist_ok=True)
+    for name, rel in packages.items():
+        (index / name).write_text("")
+        link = root / "share" / name
+        if not link.exists():
+            link.symlink_to(CORPUS / rel, target_is_directory=True)
+    return root
+
+
+def cpu(fn, repeat: int) -> tuple[float, float]:
+    """(first run, median of runs) in ms of process CPU time."""
+    times = []
+    for _ in range(repeat):
+        t = time.process_time()
+        fn()
+        times.append((time.process_time() - t) * 1000)
+    return times[0], statistics.median(times)
+
+
+def child_cpu(cmd: list[str], env: dict[str, str], repeat: int) -> float:
+    times = []
+    for _ in range(repeat):
+        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        run = subprocess.run(cmd, cwd=CORPUS, env=env, capture_output=True, timeout=300)
+        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if run.returncode != 0:
+            raise RuntimeError(f"{cmd} failed: {run.stderr.decode()[-500:]}")
+        times.append((r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime) * 1000)
+    return statistics.median(times)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--only", default="")
+    ap.add_argument("--no-cli", action="store_true")
+    a = ap.parse_args()
+
+    here = Path(__file__).resolve().parent
+    sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != here]  # this file is named xacro.py
+    import xacro  # stock, the reference
+
+    from urdftk.xacro import expand
+
+    cases = [c for c in json.loads((CORPUS / "manifest.json").read_text())["cases"] if a.only in c["id"]]
+    tmp = Path(tempfile.mkdtemp(prefix="xacro-bench-"))
+    os.chdir(CORPUS)
+    rows = []
+    for c in cases:
+        repo = c["input"].split("/")[0]
+        prefix = ament_prefix(tmp / repo, c["packages"])
+        args = [x.replace("{corpus}", str(CORPUS)) for x in c["args"]]
+        mappings = dict(x.split(":=", 1) for x in args)
+        expected = (CORPUS / c["expected"]).read_text().replace("{corpus}", str(CORPUS))
+        env_ours = {k: v for k, v in os.environ.items() if k != "AMENT_PREFIX_PATH"}
+        env_ours["ROS_PACKAGE_PATH"] = str(CORPUS / repo)
+        env_stock = {k: v for k, v in os.environ.items() if k != "ROS_PACKAGE_PATH"}
+        env_stock["AMENT_PREFIX_PATH"] = str(prefix)
+
+        def run_stock(c=c, mappings=mappings) -> None:
+            xacro.all_includes = []
+            with contextlib.redirect_stderr(io.StringIO()):
+                doc = xacro.process_file(c["input"], mappings=dict(mappings))
+                doc.toprettyxml(indent="  ")
+
+        def run_ours(c=c, mappings=mappings) -> str:
+            return expand(c["input"], mappings, stderr=io.StringIO()).text
+
+        os.environ.pop("ROS_PACKAGE_PATH", None)
+        os.environ["AMENT_PREFIX_PATH"] = str(prefix)
+        s_cold, s_med = cpu(run_stock, a.repeat)
+        os.environ.pop("AMENT_PREFIX_PATH", None)
+        os.environ["ROS_PACKAGE_PATH"] = str(CORPUS / repo)
+        assert run_ours() == expected, f"ours differs from stock on {c['id']}"
+        o_cold, o_med = cpu(run_ours, a.repeat)
+        row = {"id": c["id"], "stock": s_med, "ours": o_med, "stock_cold": s_cold, "ours_cold": o_cold}
+        if not a.no_cli:
+            row["cli_stock"] = child_cpu([str(BIN / "xacro"), c["input"], *args], env_stock, max(1, a.repeat // 2))
+            row["cli_ours"] = child_cpu(
+                [str(BIN / "urdftk"), "xacro", c["input"], *args], env_ours, max(1, a.repeat // 2)
+            )
+        rows.append(row)
+        print(
+            f"{c['id'][:70]:70s} stock {s_med:7.1f} ms  ours {o_med:6.1f} ms  ratio {o_med / s_med:5.3f}"
+            + (f"   cli {row['cli_ours']:5.0f}/{row['cli_stock']:5.0f} ms" if not a.no_cli else ""),
+            flush=True,
+        )
+
+    print("\n== in-process CPU, median of", a.repeat, "runs per case (ours / stock)")
+    ratios = [r["ours"] / r["stock"] for r in rows]
+    print(f"cases {len(rows)}  median ratio {statistics.median(ratios):.3f}  "
+          f"worst {max(ratios):.3f}  best {min(ratios):.3f}")
+    cold = [r["ours_cold"] / r["stock_cold"] for r in rows]
+    print(f"first (cold) run: median ratio {statistics.median(cold):.3f}")
+    print("three largest (by stock CPU):")
+    for r in sorted(rows, key=lambda r: -r["stock"])[:3]:
+        print(f"  {r['id']}: stock {r['stock']:.1f} ms, ours {r['ours']:.1f} ms, ratio {r['ours'] / r['stock']:.3f}"
+              f" (cold {r['ours_cold']:.1f}/{r['stock_cold']:.1f} ms)")
+    if not a.no_cli:
+        faster = sum(r["cli_ours"] < r["cli_stock"] for r in rows)
+        cli = [r["cli_ours"] / r["cli_stock"] for r in rows]
+        print(f"\n== whole-process CPU (urdftk xacro / stock xacro): faster on {faster}/{len(rows)} cases, "
+              f"median ratio {statistics.median(cli):.3f}, worst {max(cli):.3f}")
+        print(f"   total: ours {sum(r['cli_ours'] for r in rows) / 1000:.2f} s, "
+              f"stock {sum(r['cli_stock'] for r in rows) / 1000:.2f} s")
+
+
+if __name__ == "__main__":
+    main()

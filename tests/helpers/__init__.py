@@ -1,0 +1,1 @@
+"""Test helpers shared by the transport, node and recording tests (real processes, real Zenoh)."""

@@ -1,0 +1,97 @@
+"""``xacro.load_yaml``: yaml files as dicts with dotted access, and sandboxed unit tags.
+
+``!degrees 90`` and its siblings evaluate their text with the same sandbox as ``${...}`` (only
+the global symbols: ``pi``, ``radians(…)``, arithmetic), never with Python's ``eval`` on
+builtins. PyYAML is imported on first use; its global loader classes are never modified.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+from urdftk.errors import XacroError
+
+__all__ = ["UNITS", "YamlDict", "YamlList", "load_yaml_text", "wrap"]
+
+#: tag -> factor to SI (radians, meters)
+UNITS = {
+    "!radians": 1.0,
+    "!degrees": math.pi / 180.0,
+    "!meters": 1.0,
+    "!millimeters": 0.001,
+    "!foot": 0.3048,
+    "!inches": 0.0254,
+}
+
+
+def wrap(item: Any) -> Any:
+    """Wrap dicts and lists so that nested items get dotted access too."""
+    if isinstance(item, dict):
+        return YamlDict(item)
+    if isinstance(item, list):
+        return YamlList(item)
+    return item
+
+
+class YamlList(list):
+    """A yaml list whose items are wrapped on access."""
+
+    def __getitem__(self, idx: Any) -> Any:
+        return wrap(list.__getitem__(self, idx))
+
+    def __iter__(self):
+        for item in list.__iter__(self):
+            yield wrap(item)
+
+
+class YamlDict(dict):
+    """A yaml mapping: ``d.key`` is ``d['key']``; a missing key raises AttributeError."""
+
+    def __getattr__(self, item: str) -> Any:
+        try:
+            return wrap(dict.__getitem__(self, item))
+        except KeyError:
+            raise AttributeError(f"The yaml dictionary has no key '{item}'") from None
+
+    __getitem__ = __getattr__
+
+
+def load_yaml_text(stream: Any, evaluate: Callable[[str], Any], filename: str) -> Any:
+    """Parse yaml with the unit tags, evaluating each tagged value with ``evaluate``.
+
+    Args:
+        stream: Text or a text file.
+        evaluate: Sandboxed evaluation of a unit tag's text (global symbols only).
+        filename: For error messages.
+
+    Returns:
+        The wrapped document.
+    """
+    try:
+        import yaml
+    except ImportError as e:  # pragma: no cover - pyyaml is a dependency
+        raise XacroError("yaml support not available; install pyyaml") from e
+
+    base = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+    class Loader(base):  # type: ignore[valid-type,misc]
+        pass
+
+    def unit(factor: float) -> Callable:
+        def construct(loader: Any, node: Any) -> float:
+            text = loader.construct_scalar(node)
+            try:
+                return float(evaluate(text)) * factor
+            except SyntaxError:
+                raise XacroError(f"invalid expression: {text}") from None
+
+        return construct
+
+    for tag, factor in UNITS.items():
+        Loader.add_constructor(tag, unit(factor))
+    try:
+        return wrap(yaml.load(stream, Loader=Loader))  # noqa: S506 - a SafeLoader subclass
+    except yaml.YAMLError as e:
+        raise XacroError(f"{filename}: invalid yaml: {e}") from None
