@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -42,21 +43,37 @@ def bench_single(robot, q) -> None:
     body_ids = [model.getFrameId(n, pin.BODY) for n in robot.link_names]
     n = 20000
     t_ffk = best_of(lambda: pin.framesForwardKinematics(model, data, pq), number=n)
-    t_raw_one = best_of(lambda: pin.updateFramePlacement(model, data, fid).homogeneous
-                        if pin.forwardKinematics(model, data, pq) is None else None, number=n)
-    t_raw_one_ffk = best_of(lambda: (pin.framesForwardKinematics(model, data, pq), data.oMf[fid].homogeneous),
-                            number=n)
+    t_raw_one = best_of(
+        lambda: (
+            pin.updateFramePlacement(model, data, fid).homogeneous
+            if pin.forwardKinematics(model, data, pq) is None
+            else None
+        ),
+        number=n,
+    )
+    t_raw_one_ffk = best_of(
+        lambda: (pin.framesForwardKinematics(model, data, pq), data.oMf[fid].homogeneous), number=n
+    )
     t_fp = best_of(lambda: robot.frame_pose(link, q), number=n)
     t_raw_all = best_of(
-        lambda: (pin.framesForwardKinematics(model, data, pq), np.array([data.oMf[i].homogeneous for i in body_ids])),
+        lambda: (
+            pin.framesForwardKinematics(model, data, pq),
+            np.array([data.oMf[i].homogeneous for i in body_ids]),
+        ),
         number=n // 10,
     )
     t_fk = best_of(lambda: robot.fk(q), number=n)
     us = 1e6
-    print(f"  frame_pose          {t_fp * us:7.2f} us | raw fk+updateFramePlacement+homogeneous {t_raw_one * us:6.2f} us "
-          f"(overhead {(t_fp - t_raw_one) * us:+.2f} us) | raw ffk+oMf.homogeneous {t_raw_one_ffk * us:6.2f} us")
-    print(f"  fk (all {len(robot.link_names)} links) {t_fk * us:7.2f} us | raw framesForwardKinematics {t_ffk * us:6.2f} us "
-          f"(ratio {t_fk / t_ffk:.2f}x) | raw ffk + every .homogeneous {t_raw_all * us:6.2f} us")
+    print(
+        f"  frame_pose          {t_fp * us:7.2f} us | raw fk+updateFramePlacement+homogeneous "
+        f"{t_raw_one * us:6.2f} us "
+        f"(overhead {(t_fp - t_raw_one) * us:+.2f} us) | raw ffk+oMf.homogeneous {t_raw_one_ffk * us:6.2f} us"
+    )
+    print(
+        f"  fk (all {len(robot.link_names)} links) {t_fk * us:7.2f} us | "
+        f"raw framesForwardKinematics {t_ffk * us:6.2f} us "
+        f"(ratio {t_fk / t_ffk:.2f}x) | raw ffk + every .homogeneous {t_raw_all * us:6.2f} us"
+    )
 
 
 def bench_batch(robot, path, n: int) -> None:
@@ -71,18 +88,24 @@ def bench_batch(robot, path, n: int) -> None:
             pin.framesForwardKinematics(model, data, pq)
 
     pin_rate = len(pqs) / best_of(pin_loop, repeat=3)
-    print(f"  pinocchio python loop (framesForwardKinematics, compute only): {pin_rate / 1e3:8.0f} k configs/s")
+    print(
+        f"  pinocchio python loop (framesForwardKinematics, compute only): {pin_rate / 1e3:8.0f} k configs/s"
+    )
     robot.fk_batch(Q[:8], dtype=np.float32)
     robot.fk_batch(Q[:8])
     rates = {}
     for backend in ("numba", "numpy"):
         for dt in (np.float64, np.float32):
             out = np.zeros((n, len(robot.link_names), 4, 4), dtype=dt)
-            t = best_of(lambda: robot.fk_batch(Q, dtype=dt, out=out, backend=backend), repeat=3 if backend == "numba" else 1)
+            t = best_of(
+                lambda dt=dt, out=out, be=backend: robot.fk_batch(Q, dtype=dt, out=out, backend=be),
+                repeat=3 if backend == "numba" else 1,
+            )
             rates[(backend, dt)] = n / t
-            print(f"  fk_batch {backend:5s} {np.dtype(dt).name:7s} N={n}: {n / t / 1e3:8.0f} k configs/s "
-                  f"= {n / t / pin_rate:5.2f}x pinocchio loop")
-            del out
+            print(
+                f"  fk_batch {backend:5s} {np.dtype(dt).name:7s} N={n}: {n / t / 1e3:8.0f} k configs/s "
+                f"= {n / t / pin_rate:5.2f}x pinocchio loop"
+            )
     try:
         import pytorch_kinematics as pk
         import torch
@@ -92,15 +115,17 @@ def bench_batch(robot, path, n: int) -> None:
     torch.set_num_threads(1)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        chain = pk.build_chain_from_urdf(open(path, "rb").read()).to(dtype=torch.float64)
+        chain = pk.build_chain_from_urdf(Path(path).read_bytes()).to(dtype=torch.float64)
     n_pk = min(n, 20000)
     th = torch.as_tensor(rng.uniform(-1, 1, size=(n_pk, len(chain.get_joint_parameter_names()))))
     chain.forward_kinematics(th[:8])
     t = best_of(lambda: chain.forward_kinematics(th), repeat=2)
     pk_rate = n_pk / t
     best = rates[("numba", np.float64)]
-    print(f"  pytorch_kinematics CPU 1 thread float64 N={n_pk}: {pk_rate / 1e3:8.0f} k configs/s; "
-          f"fk_batch numba f64 is {best / pk_rate:5.1f}x faster")
+    print(
+        f"  pytorch_kinematics CPU 1 thread float64 N={n_pk}: {pk_rate / 1e3:8.0f} k configs/s; "
+        f"fk_batch numba f64 is {best / pk_rate:5.1f}x faster"
+    )
 
 
 def main() -> None:
@@ -108,10 +133,16 @@ def main() -> None:
     parser.add_argument("--n", type=int, default=100_000, help="batch size for fk_batch (default 100000)")
     args = parser.parse_args()
     robots = PackageResolver().find("example-robot-data") / "robots"
-    for name, rel in [("Panda", "panda_description/urdf/panda.urdf"), ("Talos", "talos_data/robots/talos_full_v2.urdf")]:
+    for name, rel in [
+        ("Panda", "panda_description/urdf/panda.urdf"),
+        ("Talos", "talos_data/robots/talos_full_v2.urdf"),
+    ]:
         path = robots / rel
         robot = urdftk.load(path)
-        print(f"{name}: {len(robot.link_names)} links, dof {robot.dof} (+{len(robot.mimic)} mimic), pin nq {robot.model.nq}")
+        print(
+            f"{name}: {len(robot.link_names)} links, dof {robot.dof} (+{len(robot.mimic)} mimic), "
+            f"pin nq {robot.model.nq}"
+        )
         q = robot.random(1)
         robot.fk(q)
         bench_single(robot, q)

@@ -110,7 +110,9 @@ def main() -> None:
         o_cold, o_med = cpu(run_ours, a.repeat)
         row = {"id": c["id"], "stock": s_med, "ours": o_med, "stock_cold": s_cold, "ours_cold": o_cold}
         if not a.no_cli:
-            row["cli_stock"] = child_cpu([str(BIN / "xacro"), c["input"], *args], env_stock, max(1, a.repeat // 2))
+            row["cli_stock"] = child_cpu(
+                [str(BIN / "xacro"), c["input"], *args], env_stock, max(1, a.repeat // 2)
+            )
             row["cli_ours"] = child_cpu(
                 [str(BIN / "urdftk"), "xacro", c["input"], *args], env_ours, max(1, a.repeat // 2)
             )
@@ -123,21 +125,30 @@ def main() -> None:
 
     print("\n== in-process CPU, median of", a.repeat, "runs per case (ours / stock)")
     ratios = [r["ours"] / r["stock"] for r in rows]
-    print(f"cases {len(rows)}  median ratio {statistics.median(ratios):.3f}  "
-          f"worst {max(ratios):.3f}  best {min(ratios):.3f}")
+    print(
+        f"cases {len(rows)}  median ratio {statistics.median(ratios):.3f}  "
+        f"worst {max(ratios):.3f}  best {min(ratios):.3f}"
+    )
     cold = [r["ours_cold"] / r["stock_cold"] for r in rows]
     print(f"first (cold) run: median ratio {statistics.median(cold):.3f}")
     print("three largest (by stock CPU):")
     for r in sorted(rows, key=lambda r: -r["stock"])[:3]:
-        print(f"  {r['id']}: stock {r['stock']:.1f} ms, ours {r['ours']:.1f} ms, ratio {r['ours'] / r['stock']:.3f}"
-              f" (cold {r['ours_cold']:.1f}/{r['stock_cold']:.1f} ms)")
+        print(
+            f"  {r['id']}: stock {r['stock']:.1f} ms, ours {r['ours']:.1f} ms,"
+            f" ratio {r['ours'] / r['stock']:.3f}"
+            f" (cold {r['ours_cold']:.1f}/{r['stock_cold']:.1f} ms)"
+        )
     if not a.no_cli:
         faster = sum(r["cli_ours"] < r["cli_stock"] for r in rows)
         cli = [r["cli_ours"] / r["cli_stock"] for r in rows]
-        print(f"\n== whole-process CPU (urdftk xacro / stock xacro): faster on {faster}/{len(rows)} cases, "
-              f"median ratio {statistics.median(cli):.3f}, worst {max(cli):.3f}")
-        print(f"   total: ours {sum(r['cli_ours'] for r in rows) / 1000:.2f} s, "
-              f"stock {sum(r['cli_stock'] for r in rows) / 1000:.2f} s")
+        print(
+            f"\n== whole-process CPU (urdftk xacro / stock xacro): faster on {faster}/{len(rows)} cases, "
+            f"median ratio {statistics.median(cli):.3f}, worst {max(cli):.3f}"
+        )
+        print(
+            f"   total: ours {sum(r['cli_ours'] for r in rows) / 1000:.2f} s, "
+            f"stock {sum(r['cli_stock'] for r in rows) / 1000:.2f} s"
+        )
 
 
 if __name__ == "__main__":

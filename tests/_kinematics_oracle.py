@@ -65,7 +65,7 @@ def xml_mimics(robot) -> dict[str, tuple[str, float, float]]:
 
 def joint_values(robot, q: np.ndarray) -> dict[str, float]:
     """Value of every one-coordinate joint: independent ones from q, followers through the XML mimic."""
-    values = {n: float(v) for n, v in zip(robot.joint_names, q) if "/" not in n}
+    values = {n: float(v) for n, v in zip(robot.joint_names, q, strict=True) if "/" not in n}
     mimics = xml_mimics(robot)
 
     def value(name: str, depth: int = 0) -> float:
@@ -88,7 +88,7 @@ def raw_pin_poses(robot, q: np.ndarray) -> np.ndarray:
         model = pin.buildModelFromXML(robot.urdf_text)
     data = model.createData()
     values = joint_values(robot, q)
-    coords = dict(zip(robot.joint_names, q))
+    coords = dict(zip(robot.joint_names, q, strict=True))
     pq = pin.neutral(model)
     for jid in range(1, model.njoints):
         name, iq, nq = model.names[jid], model.idx_qs[jid], model.nqs[jid]
@@ -120,7 +120,7 @@ def yourdfpy_model(robot) -> yourdfpy.URDF:
 
 def yourdfpy_poses(urdf: yourdfpy.URDF, robot, q: np.ndarray) -> np.ndarray:
     """Link poses from yourdfpy, given only the independent joints (yourdfpy applies mimic)."""
-    cfg = {n: float(v) for n, v in zip(robot.joint_names, q) if n not in robot.mimic}
+    cfg = {n: float(v) for n, v in zip(robot.joint_names, q, strict=True) if n not in robot.mimic}
     urdf.update_cfg(cfg)
     base = robot.root_link
     return np.array([urdf.get_transform(link, base) for link in robot.link_names])

@@ -50,8 +50,16 @@ def test_empty_batch_and_bad_inputs(talos):
         (lambda: talos.fk_batch(np.zeros((3, talos.dof + 1))), ConfigurationError, "shape"),
         (lambda: talos.fk_batch(np.full((3, talos.dof), np.nan)), ConfigurationError, "NaN"),
         (lambda: talos.fk_batch(np.zeros((3, talos.dof)), dtype=np.int32), ConfigurationError, "dtype"),
-        (lambda: talos.fk_batch(np.zeros((3, talos.dof)), out=np.zeros((3, 1, 4, 4))), ConfigurationError, "out"),
-        (lambda: talos.fk_batch(np.zeros((3, talos.dof)), links=["base_link", "base_link"]), ConfigurationError, "once"),
+        (
+            lambda: talos.fk_batch(np.zeros((3, talos.dof)), out=np.zeros((3, 1, 4, 4))),
+            ConfigurationError,
+            "out",
+        ),
+        (
+            lambda: talos.fk_batch(np.zeros((3, talos.dof)), links=["base_link", "base_link"]),
+            ConfigurationError,
+            "once",
+        ),
         (lambda: talos.fk_batch(np.zeros((3, talos.dof)), links=["base_lnk"]), LinkNotFound, "base_link"),
         (lambda: talos.fk_batch(np.zeros((3, talos.dof)), backend="gpu"), ValueError, "backend"),
     ]
@@ -62,7 +70,9 @@ def test_empty_batch_and_bad_inputs(talos):
 
 def test_sincos_kernel_matches_libm():
     rng = np.random.default_rng(0)
-    x = np.concatenate([rng.uniform(-7, 7, 200_000), rng.uniform(-1e5, 1e5, 100_000), [1e16, -1e9, 0.0, -0.0]])
+    x = np.concatenate(
+        [rng.uniform(-7, 7, 200_000), rng.uniform(-1e5, 1e5, 100_000), [1e16, -1e9, 0.0, -0.0]]
+    )
     x = np.concatenate([x, np.arange(-64, 65) * np.pi / 4])
     s, c = np.empty_like(x), np.empty_like(x)
     sincos(x, s, c, len(x))

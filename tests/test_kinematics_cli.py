@@ -35,8 +35,17 @@ def test_table_output():
 
 
 def test_json_output_with_frame_and_mimic():
-    res = _run(str(MOBILE), "left_finger_joint:=0.02", "lift_joint:=0.3", "--frame", "right_finger", "--frame",
-               "tool0", "--format", "json")
+    res = _run(
+        str(MOBILE),
+        "left_finger_joint:=0.02",
+        "lift_joint:=0.3",
+        "--frame",
+        "right_finger",
+        "--frame",
+        "tool0",
+        "--format",
+        "json",
+    )
     assert res.returncode == 0, res.stderr
     doc = json.loads(res.stdout)
     assert list(doc["frames"]) == ["right_finger", "tool0"]

@@ -5,7 +5,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from _kinematics_oracle import EXAMPLES, example_robots, fd_jacobians, raw_pin_poses, yourdfpy_model, yourdfpy_poses
+from _kinematics_oracle import (
+    EXAMPLES,
+    example_robots,
+    fd_jacobians,
+    raw_pin_poses,
+    yourdfpy_model,
+    yourdfpy_poses,
+)
 
 import urdftk
 

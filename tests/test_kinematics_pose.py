@@ -53,7 +53,12 @@ def test_immutable_and_no_shared_arrays():
 
 @pytest.mark.parametrize(
     "matrix",
-    [np.zeros((3, 3)), np.diag([1.0, 1.0, -1.0, 1.0]), np.full((4, 4), np.nan), np.diag([2.0, 1.0, 1.0, 1.0])],
+    [
+        np.zeros((3, 3)),
+        np.diag([1.0, 1.0, -1.0, 1.0]),
+        np.full((4, 4), np.nan),
+        np.diag([2.0, 1.0, 1.0, 1.0]),
+    ],
 )
 def test_rejects_non_rigid(matrix):
     with pytest.raises(ValueError):

@@ -29,10 +29,13 @@ ALL_TYPES = f"""<robot name="zoo">
   <joint name="j_float" type="floating"><parent link="cart"/><child link="drone"/>
     <origin xyz="0 0 1" rpy="0.1 0.2 0.3"/></joint>
   <joint name="j_f1" type="revolute"><parent link="drone"/><child link="finger"/>
-    <origin xyz="0.1 0 0"/><axis xyz="1 0 0"/><mimic joint="j_rev" multiplier="2" offset="0.1"/>{LIMIT}</joint>
+    <origin xyz="0.1 0 0"/><axis xyz="1 0 0"/>
+    <mimic joint="j_rev" multiplier="2" offset="0.1"/>{LIMIT}</joint>
   <joint name="j_f2" type="revolute"><parent link="finger"/><child link="finger2"/>
-    <origin xyz="0.1 0 0"/><axis xyz="0 0 1"/><mimic joint="j_f1" multiplier="-0.5" offset="0.2"/>{LIMIT}</joint>
-  <joint name="j_tip" type="fixed"><parent link="finger2"/><child link="j_rev"/><origin xyz="0 0 0.05"/></joint>
+    <origin xyz="0.1 0 0"/><axis xyz="0 0 1"/>
+    <mimic joint="j_f1" multiplier="-0.5" offset="0.2"/>{LIMIT}</joint>
+  <joint name="j_tip" type="fixed"><parent link="finger2"/><child link="j_rev"/>
+    <origin xyz="0 0 0.05"/></joint>
 </robot>"""
 
 
@@ -56,7 +59,7 @@ def test_coordinates_and_names(zoo):
     floating = tuple(f"j_float/{s}" for s in ("x", "y", "z", "qx", "qy", "qz", "qw"))
     assert zoo.joint_names == ("j_rev", "j_pri", "j_cont", *planar, *floating)
     assert zoo.mimic == {"j_f1": ("j_rev", 2.0, 0.1), "j_f2": ("j_rev", -1.0, -0.05 + 0.2)}
-    assert zoo.root_link == "base" and set(zoo.link_names) == {l.name for l in zoo.parsed.tree.links}
+    assert zoo.root_link == "base" and set(zoo.link_names) == {link.name for link in zoo.parsed.tree.links}
     assert zoo.link_names[0] == "base"
     np.testing.assert_array_equal(zoo.limits.lower[:3], [-1.0, -1.0, -np.inf])
     np.testing.assert_array_equal(zoo.limits.upper[:3], [1.5, 1.5, np.inf])
@@ -150,7 +153,10 @@ def test_unknown_frames_list_valid_names(zoo):
     with pytest.raises(LinkNotFound, match="did you mean 'arm'") as info:
         zoo.frame_pose("armm", zoo.neutral())
     assert "base" in str(info.value)
-    for call in (lambda: zoo.jacobian("nope", zoo.neutral()), lambda: zoo.fk_batch(np.zeros((1, zoo.dof)), ["x"])):
+    for call in (
+        lambda: zoo.jacobian("nope", zoo.neutral()),
+        lambda: zoo.fk_batch(np.zeros((1, zoo.dof)), ["x"]),
+    ):
         with pytest.raises(LinkNotFound):
             call()
     with pytest.raises(ConfigurationError, match="reference"):
@@ -166,7 +172,7 @@ def test_link_named_like_a_joint(zoo):
 
 def test_transform_joint_and_fixed_transforms_compose_to_fk(zoo):
     q = zoo.random(11)
-    F = dict(zip(zoo.link_names, zoo.fk(q)))
+    F = dict(zip(zoo.link_names, zoo.fk(q), strict=True))
     T_a_b = zoo.transform("arm", "finger2", q)
     np.testing.assert_allclose(F["arm"] @ T_a_b, F["finger2"], atol=1e-12)
     edges = zoo.joint_transforms(q) + zoo.fixed_transforms()
@@ -179,7 +185,7 @@ def test_transform_joint_and_fixed_transforms_compose_to_fk(zoo):
 
 
 def test_com_and_mass_match_pinocchio():
-    robot = urdftk.load(urdftk.load.__module__ and _inertial_robot())
+    robot = urdftk.load(_inertial_robot())
     model = pin.buildModelFromXML(robot.urdf_text)
     data = model.createData()
     q = robot.random(3)
@@ -188,10 +194,16 @@ def test_com_and_mass_match_pinocchio():
 
 
 def _inertial_robot() -> str:
-    inertial = '<inertial><mass value="{m}"/><origin xyz="0.1 0 0"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>'
+    inertial = (
+        '<inertial><mass value="{m}"/><origin xyz="0.1 0 0"/>'
+        '<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>'
+    )
     return (
-        f'<robot name="m"><link name="a">{inertial.format(m=1.0)}</link><link name="b">{inertial.format(m=2.5)}</link>'
-        f'<joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>{LIMIT}</joint></robot>'
+        f'<robot name="m"><link name="a">{inertial.format(m=1.0)}</link>'
+        f'<link name="b">{inertial.format(m=2.5)}</link>'
+        f'<joint name="j" type="revolute"><parent link="a"/><child link="b"/>'
+        f'<axis xyz="0 0 1"/>{LIMIT}</joint>'
+        "</robot>"
     )
 
 
@@ -217,8 +229,10 @@ def test_large_chain_loads_fast_and_refuses_jacobian_clearly():
 def test_bad_mimic_is_a_description_error_with_line(mimic, message):
     text = chain(2).replace("</joint>", mimic + "</joint>", 1)
     if "cycle" in message:
-        text = text.replace('<origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>' + LIMIT + "</joint></robot>",
-                            '<origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>' + LIMIT + '<mimic joint="j0"/></joint></robot>')
+        text = text.replace(
+            '<origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>' + LIMIT + "</joint></robot>",
+            '<origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>' + LIMIT + '<mimic joint="j0"/></joint></robot>',
+        )
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         with pytest.raises(DescriptionError, match=message) as info:

@@ -61,7 +61,10 @@ def test_alex_psyonic_targets_resolved_within_the_prefix():
 
 def _moves_with_master(robot, master: str, follower: str, child_link: str) -> None:
     mult = robot.mimic[follower][1]
-    lo, hi = robot.limits.lower[robot.joint_names.index(master)], robot.limits.upper[robot.joint_names.index(master)]
+    lo, hi = (
+        robot.limits.lower[robot.joint_names.index(master)],
+        robot.limits.upper[robot.joint_names.index(master)],
+    )
     poses = []
     for value in np.linspace(lo, hi, 5):
         q = robot.q({master: value})
@@ -83,7 +86,9 @@ def test_panda_finger_follows():
 
 def test_pr2_gripper_follows():
     robot = urdftk.load(_find("pr2.urdf"))
-    _moves_with_master(robot, "r_gripper_l_finger_joint", "r_gripper_r_finger_tip_joint", "r_gripper_r_finger_tip_link")
+    _moves_with_master(
+        robot, "r_gripper_l_finger_joint", "r_gripper_r_finger_tip_joint", "r_gripper_r_finger_tip_link"
+    )
 
 
 def test_example_mobile_manipulator_gripper_follows():

@@ -32,7 +32,7 @@ def robot(tmp_path: Path) -> Path:
     path.write_text(
         f'<robot {NS} name="r">\n  <xacro:arg name="n" default="2"/>\n'
         '  <xacro:include filename="parts.xacro"/>\n'
-        "  <xacro:property name=\"d\" value=\"${xacro.load_yaml('dims.yaml')}\"/>\n"
+        '  <xacro:property name="d" value="${xacro.load_yaml(\'dims.yaml\')}"/>\n'
         '  <xacro:leg n="$(arg n)"/>\n  <l v="${d.len}"/>\n</robot>\n'
     )
     return path
@@ -77,7 +77,12 @@ def test_stdin(robot: Path, monkeypatch):
     text = robot.read_text()
     monkeypatch.chdir(robot.parent)
     run = subprocess.run(
-        [str(URDFTK), "xacro", "-", "n:=3"], input=text, capture_output=True, text=True, cwd=robot.parent, timeout=60
+        [str(URDFTK), "xacro", "-", "n:=3"],
+        input=text,
+        capture_output=True,
+        text=True,
+        cwd=robot.parent,
+        timeout=60,
     )
     assert run.returncode == 0, run.stderr
     expected = expand(None, {"n": "3"}, text=text, filename=None)
@@ -87,7 +92,9 @@ def test_stdin(robot: Path, monkeypatch):
 
 
 def test_deps_lists_files_and_packages():
-    case = next(c for c in json.loads((CORPUS / "manifest.json").read_text())["cases"] if "pr2.urdf" in c["id"])
+    case = next(
+        c for c in json.loads((CORPUS / "manifest.json").read_text())["cases"] if "pr2.urdf" in c["id"]
+    )
     env = {k: v for k, v in os.environ.items() if k != "AMENT_PREFIX_PATH"}
     env["ROS_PACKAGE_PATH"] = str(CORPUS / "pr2_common")
     run = urdftk(case["input"], "--deps", cwd=CORPUS, env=env)
@@ -111,7 +118,7 @@ def test_package_path_option(tmp_path: Path):
     pkg = tmp_path / "ws" / "my_pkg"
     pkg.mkdir(parents=True)
     (pkg / "package.xml").write_text("<package><name>my_pkg</name></package>")
-    (pkg / "m.xacro").write_text(f'<r {NS}><m/></r>')
+    (pkg / "m.xacro").write_text(f"<r {NS}><m/></r>")
     main = tmp_path / "main.xacro"
     main.write_text(f'<r {NS}><xacro:include filename="$(find my_pkg)/m.xacro"/></r>')
     env = {k: v for k, v in os.environ.items() if k not in ("ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH")}

@@ -47,7 +47,9 @@ def test_undefined_property_did_you_mean():
 
 
 def test_undefined_macro_did_you_mean():
-    msg = error_of(process_string, f'<r {NS}><xacro:macro name="wheel"/>\n<xacro:wheell/></r>', filename="m.xacro")
+    msg = error_of(
+        process_string, f'<r {NS}><xacro:macro name="wheel"/>\n<xacro:wheell/></r>', filename="m.xacro"
+    )
     assert msg == "m.xacro:2: unknown macro name: xacro:wheell (did you mean xacro:wheel?)"
 
 
@@ -67,7 +69,7 @@ def test_invalid_macro_parameter_did_you_mean():
         f'<r {NS}><xacro:macro name="m" params="radius"/>\n<xacro:m radus="1"/></r>',
         filename="q.xacro",
     )
-    assert msg.startswith('q.xacro:2: Invalid parameter "radus" of macro m (did you mean \'radius\'?)')
+    assert msg.startswith("q.xacro:2: Invalid parameter \"radus\" of macro m (did you mean 'radius'?)")
 
 
 def test_xml_syntax_error_has_line_and_column(tmp_path: Path):
@@ -120,8 +122,11 @@ def test_unknown_package_names_file_and_search_places():
 
 def test_missing_include_suggests_files(tmp_path: Path):
     (tmp_path / "wheel.xacro").write_text(f"<r {NS}/>")
-    msg = error_of(process_string, f'<r {NS}><xacro:include filename="wheeel.xacro"/></r>',
-                   filename=str(tmp_path / "m.xacro"))
+    msg = error_of(
+        process_string,
+        f'<r {NS}><xacro:include filename="wheeel.xacro"/></r>',
+        filename=str(tmp_path / "m.xacro"),
+    )
     assert msg.startswith(f"{tmp_path / 'm.xacro'}:1: No such file or directory")
     assert "did you mean 'wheel.xacro'" in msg
 

@@ -49,7 +49,8 @@ def test_example_identical_to_stock(path: Path, ament_prefix: Path):
     cwd = os.getcwd()
     os.chdir(REPO)
     try:
-        ours = expand(rel, package_paths=[EXAMPLES], stderr=open(os.devnull, "w"))
+        with open(os.devnull, "w") as quiet:
+            ours = expand(rel, package_paths=[EXAMPLES], stderr=quiet)
     finally:
         os.chdir(cwd)
     # $(find) resolves to the package folder: stock's goes through the ament prefix's symlink

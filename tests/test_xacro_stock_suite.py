@@ -31,13 +31,25 @@ def _sdist() -> Path:
     if not (path.is_file() and hashlib.sha256(path.read_bytes()).hexdigest() == SHA256):
         CACHE.mkdir(parents=True, exist_ok=True)
         run = subprocess.run(
-            [sys.executable, "-m", "pip", "download", "xacro==2.1.1", "--no-binary", ":all:", "--no-deps",
-             "-d", str(CACHE)],
+            [
+                sys.executable,
+                "-m",
+                "pip",
+                "download",
+                "xacro==2.1.1",
+                "--no-binary",
+                ":all:",
+                "--no-deps",
+                "-d",
+                str(CACHE),
+            ],
             capture_output=True,
             text=True,
             timeout=240,
         )
-        assert run.returncode == 0 and path.is_file(), f"cannot download the xacro sdist:\n{run.stderr[-2000:]}"
+        assert run.returncode == 0 and path.is_file(), (
+            f"cannot download the xacro sdist:\n{run.stderr[-2000:]}"
+        )
     assert hashlib.sha256(path.read_bytes()).hexdigest() == SHA256, "xacro sdist checksum mismatch"
     return path
 
@@ -60,7 +72,16 @@ def test_stock_suite_passes_against_compat(tmp_path):
     env["ROS_PACKAGE_PATH"] = str(src)
     report = tmp_path / "report.xml"
     run = subprocess.run(
-        [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-q", f"--junitxml={report}", "test_xacro.py"],
+        [
+            sys.executable,
+            "-m",
+            "pytest",
+            "-p",
+            "no:cacheprovider",
+            "-q",
+            f"--junitxml={report}",
+            "test_xacro.py",
+        ],
         cwd=tests,
         env=env,
         capture_output=True,

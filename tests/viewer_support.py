@@ -253,7 +253,7 @@ class Browser:
 
     def set_slider(self, name: str, value: float) -> None:
         row = self.label(name).locator("xpath=ancestor::div[contains(@class,'mantine-Flex-root')][1]")
-        box = row.locator("input").first
+        box = row.locator("input:not([type=hidden])").first
         box.fill(f"{value:.4f}")
         box.press("Enter")
 

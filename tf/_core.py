@@ -29,9 +29,8 @@ from ._codes import (
 from ._math import canonical_rotation, compose
 from ._walk import TreeWalker
 
-__all__ = [  # noqa: RUF022 - plain sorted(), as tests/test_api_surface.py checks
+__all__ = [
     "BACKWARD_EXTRAPOLATION",
-    "BufferCore",
     "CONNECTIVITY",
     "FORWARD_EXTRAPOLATION",
     "INVALID_ARGUMENT",
@@ -40,6 +39,7 @@ __all__ = [  # noqa: RUF022 - plain sorted(), as tests/test_api_surface.py check
     "NEVER_TRANSFORMABLE",
     "NO_DATA_FOR_EXTRAPOLATION",
     "NO_ERROR",
+    "BufferCore",
     "TransformableCallback",
 ]
 

@@ -223,7 +223,7 @@ class TreeWalker:
         results are always the general walk's.
         """
         caches = self._caches
-        chain = []
+        depth = 0
         frame = source_id
         common = 0
         uniform = True
@@ -248,7 +248,7 @@ class TreeWalker:
                     uniform = False
                     if stamp < common:
                         common = stamp
-            chain.append((cache, s))
+            depth += 1
             _, frame, x, y, z, w, tx, ty, tz = s
             if first:
                 sx, sy, sz, sw, svx, svy, svz = x, y, z, w, tx, ty, tz
@@ -271,10 +271,16 @@ class TreeWalker:
                 sz = nz
             if frame == target_id:
                 break
-            if not frame or len(chain) > MAX_GRAPH_DEPTH:
+            if not frame or depth > MAX_GRAPH_DEPTH:
                 return None
         if uniform:
             return NO_ERROR, (common, sx, sy, sz, sw, svx, svy, svz)
+        chain = []  # walk the same links again, keeping them, and compose at the common time
+        frame = source_id
+        while frame != target_id:
+            cache = caches[frame]
+            chain.append((cache, cache.latest))
+            frame = cache.latest[1]
         return self._compose_chain(chain, common)
 
     def _compose_chain(self, chain: list[tuple[Any, tuple]], t: int) -> tuple[int, Any] | None:

@@ -29,10 +29,10 @@ from .exceptions import (
 )
 from .messages import Duration, Time, TransformStamped, _transform_stamped
 
-__all__ = [  # noqa: RUF022 - plain sorted(), as tests/test_api_surface.py checks
-    "Buffer",
+__all__ = [
     "DEFAULT_AUTHORITY",
     "DEFAULT_CACHE_TIME",
+    "Buffer",
 ]
 
 DEFAULT_CACHE_TIME = Duration(10)

@@ -97,7 +97,8 @@ def resolve_mimics(joints: Sequence[JointInfo], filename: str | None = None) -> 
             continue
         if j.type not in ONE_DOF_TYPES:
             raise DescriptionError(
-                f"joint '{j.name}' of type {j.type} has a <mimic>; only {', '.join(ONE_DOF_TYPES)} joints can mimic",
+                f"joint '{j.name}' of type {j.type} has a <mimic>; "
+                f"only {', '.join(ONE_DOF_TYPES)} joints can mimic",
                 filename,
                 j.line,
             )
@@ -115,7 +116,8 @@ def resolve_mimics(joints: Sequence[JointInfo], filename: str | None = None) -> 
                     j.line,
                 )
             warnings.warn(
-                f"{filename or '<string>'}:{j.line}: joint '{j.name}' mimics '{target}', which does not exist; "
+                f"{filename or '<string>'}:{j.line}: joint '{j.name}' mimics '{target}', "
+                "which does not exist; "
                 f"using '{repaired}' (same name prefix as the follower)",
                 MimicWarning,
                 stacklevel=3,

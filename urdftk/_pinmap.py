@@ -135,7 +135,8 @@ def build_pinmap(struct: KinematicStructure, model, filename: str | None = None)
     if sorted(pin_names) != sorted(r.name for r in movable):
         missing = sorted({r.name for r in movable} ^ set(pin_names))
         raise DescriptionError(
-            f"Pinocchio and the description disagree on the movable joints ({', '.join(missing[:10])})", filename
+            f"Pinocchio and the description disagree on the movable joints ({', '.join(missing[:10])})",
+            filename,
         )
     for rec in movable:
         jid = model.getJointId(rec.name)

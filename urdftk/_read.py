@@ -15,14 +15,12 @@ from pathlib import Path
 
 from lxml import etree
 
-from urdftk.errors import DescriptionError, ResourceError
+from urdftk.errors import ResourceError
+from urdftk.loading import uses_xacro
 from urdftk.resources import PackageResolver
 from urdftk.xmlsafe import parse_xml
 
-__all__ = ["Source", "read_source", "uses_xacro"]
-
-_SUBSTITUTIONS = ("${", "$(")
-
+__all__ = ["Source", "read_source"]
 
 @dataclass(frozen=True)
 class Source:
@@ -39,38 +37,6 @@ class Source:
     filename: str | None
     resolver: PackageResolver
     expanded: bool
-
-
-def uses_xacro(root: etree._Element) -> bool:
-    """Tell whether a parsed document uses xacro: xacro elements, or ``${...}``/``$(...)`` in values.
-
-    Comments do not count, and neither does an unused ``xmlns:xacro`` declaration (files written
-    by xacro keep it).
-
-    Args:
-        root: The document root.
-
-    Returns:
-        True when the document must be expanded before it is a URDF.
-    """
-    for el in root.iter():
-        if not isinstance(el.tag, str):
-            continue
-        if el.prefix == "xacro":  # as stock xacro, by prefix: files use several namespace URIs
-            return True
-        texts = [el.text or "", *el.attrib.values()]
-        if any(marker in t for t in texts for marker in _SUBSTITUTIONS):
-            return True
-    return False
-
-
-def _parse(data: str | bytes, filename: str | None) -> etree._Element:
-    root = parse_xml(data, filename)
-    docinfo = root.getroottree().docinfo
-    if docinfo.doctype or docinfo.internalDTD is not None:
-        # parse_xml looks for '<!DOCTYPE' in the bytes; a UTF-16/32 document hides it from that search.
-        raise DescriptionError("<!DOCTYPE> declarations are not allowed; remove the DOCTYPE", filename, 1)
-    return root
 
 
 def _looks_like_text(value: object) -> bool:
@@ -114,10 +80,10 @@ def read_source(
         filename = str(path)
     is_xacro_file = filename is not None and filename.endswith(".xacro")
     if not args and not is_xacro_file:
-        root = _parse(data, filename)
+        root = parse_xml(data, filename)
         if not uses_xacro(root):
             return Source(root, filename, PackageResolver(paths, source=filename), expanded=False)
     from urdftk.loading import expand
 
-    text, _, resolver = expand(path_or_text, args=args, package_paths=paths)
-    return Source(_parse(text, filename), filename, resolver, expanded=True)
+    text, _, resolver, _root = expand(path_or_text, args=args, package_paths=paths)
+    return Source(parse_xml(text, filename), filename, resolver, expanded=True)

@@ -123,7 +123,11 @@ def structure_errors(root: etree._Element, tree: TreeInfo) -> list[tuple[int | N
 
 
 def parse_description(
-    text: str, filename: str | None = None, resolver: PackageResolver | None = None
+    text: str,
+    filename: str | None = None,
+    resolver: PackageResolver | None = None,
+    *,
+    root: etree._Element | None = None,
 ) -> Description:
     """Parse URDF text safely, check its structure, and parse it with yourdfpy.
 
@@ -131,6 +135,7 @@ def parse_description(
         text: URDF text.
         filename: Where it came from, for messages and relative paths.
         resolver: Resolves ``package://`` mesh references for yourdfpy.
+        root: ``text`` already parsed with :func:`urdftk.xmlsafe.parse_xml`, to skip a second parse.
 
     Returns:
         The description.
@@ -138,7 +143,8 @@ def parse_description(
     Raises:
         DescriptionError: For unsafe or malformed XML, or an unloadable structure.
     """
-    root = parse_xml(text, filename)
+    if root is None:
+        root = parse_xml(text, filename)
     tree = read_tree(root)
     errors = structure_errors(root, tree)
     if errors:

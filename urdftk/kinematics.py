@@ -83,7 +83,9 @@ def quaternion_matrices(quat: np.ndarray) -> np.ndarray:
     return R
 
 
-def _multi_coordinate(struct: KinematicStructure, i: int, Qc: np.ndarray, dt) -> tuple[np.ndarray, np.ndarray]:
+def _multi_coordinate(
+    struct: KinematicStructure, i: int, Qc: np.ndarray, dt
+) -> tuple[np.ndarray, np.ndarray]:
     """Local (R, t) of a floating or planar joint for (N, n_coords) coordinates."""
     c0 = int(struct.coord[i])
     n = Qc.shape[0]
@@ -101,7 +103,9 @@ def _multi_coordinate(struct: KinematicStructure, i: int, Qc: np.ndarray, dt) ->
     return R.astype(dt, copy=False), t.astype(dt, copy=False)
 
 
-def _fk_numpy(struct: KinematicStructure, Q: np.ndarray, order: np.ndarray, slot: np.ndarray, out: np.ndarray):
+def _fk_numpy(
+    struct: KinematicStructure, Q: np.ndarray, order: np.ndarray, slot: np.ndarray, out: np.ndarray
+):
     dt = out.dtype
     n_cfg = Q.shape[0]
     children_left = np.bincount(struct.parent[order][struct.parent[order] >= 0], minlength=struct.n_links)

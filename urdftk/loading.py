@@ -6,19 +6,41 @@ import os
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
+from lxml import etree
+
 from urdftk.description import parse_description
 from urdftk.errors import ResourceError
 from urdftk.resources import PackageResolver
+from urdftk.xmlsafe import parse_xml
 
-__all__ = ["expand", "is_xacro", "load"]
+__all__ = ["expand", "load", "uses_xacro"]
 
 
-def is_xacro(path: str | os.PathLike[str] | None, text: str) -> bool:
-    """Tell whether a document needs xacro expansion (by suffix, or by a xacro namespace)."""
-    if path is not None and str(path).endswith(".xacro"):
-        return True
-    head = text[:4096]
-    return "xmlns:xacro" in head or "<xacro:" in text
+_SUBSTITUTIONS = ("${",)
+
+
+def uses_xacro(root: etree._Element) -> bool:
+    """Tell whether a parsed document uses xacro: ``xacro:`` elements, or ``${...}`` in values.
+
+    Comments do not count, and neither does an unused ``xmlns:xacro`` declaration (files written
+    by xacro keep it), nor a bare ``$(...)`` (a plain URDF may hold such text; name the file
+    ``.xacro`` or pass an argument to have it expanded).
+
+    Args:
+        root: The document root.
+
+    Returns:
+        True when the document must be expanded before it is a URDF.
+    """
+    for el in root.iter():
+        if not isinstance(el.tag, str):
+            continue
+        if el.prefix == "xacro":  # as stock xacro, by prefix: files use several namespace URIs
+            return True
+        texts = [el.text or "", *el.attrib.values()]
+        if any(marker in t for t in texts for marker in _SUBSTITUTIONS):
+            return True
+    return False
 
 
 def _looks_like_text(value: str) -> bool:
@@ -30,8 +52,12 @@ def expand(
     *,
     args: Mapping[str, str] | None = None,
     package_paths: Iterable[str | os.PathLike[str]] | None = None,
-) -> tuple[str, str | None, PackageResolver]:
+) -> tuple[str, str | None, PackageResolver, etree._Element | None]:
     """Read a .urdf/.xacro file (or text) and return URDF text, its file name and the resolver.
+
+    A document goes through xacro when it is a ``.xacro`` file, when ``args`` are given, or when
+    it uses xacro (see :func:`uses_xacro`); otherwise it is parsed once here and that parse is
+    returned for reuse.
 
     Args:
         path_or_text: A file path, or the XML text itself.
@@ -39,7 +65,8 @@ def expand(
         package_paths: Extra folders to search for ROS packages first.
 
     Returns:
-        ``(urdf_text, filename_or_None, resolver)``.
+        ``(urdf_text, filename_or_None, resolver, root)``; ``root`` is the parsed XML when the
+        text was not expanded, else None.
 
     Raises:
         ResourceError: If the file cannot be read.
@@ -60,15 +87,18 @@ def expand(
             raise ResourceError(f"{p}: cannot read: {exc}") from None
         filename = str(p)
     resolver = PackageResolver(pkg_paths, source=filename)
-    if is_xacro(filename, text):
-        from urdftk import xacro
+    if not args and not (filename or "").endswith(".xacro"):
+        root = parse_xml(text, filename)
+        if not uses_xacro(root):
+            return text, filename, resolver, root
+    from urdftk import xacro
 
-        mappings = dict(args or {})
-        if filename is not None:
-            text = xacro.process_file(filename, mappings, resolver=resolver)
-        else:
-            text = xacro.process_string(text, mappings, resolver=resolver)
-    return text, filename, resolver
+    mappings = dict(args or {})
+    if filename is not None:
+        text = xacro.process_file(filename, mappings, resolver=resolver)
+    else:
+        text = xacro.process_string(text, mappings, resolver=resolver)
+    return text, filename, resolver, None
 
 
 def load(
@@ -102,6 +132,6 @@ def load(
     """
     from urdftk.model import Robot
 
-    text, filename, resolver = expand(path_or_text, args=args, package_paths=package_paths)
-    description = parse_description(text, filename, resolver)
+    text, filename, resolver, root = expand(path_or_text, args=args, package_paths=package_paths)
+    description = parse_description(text, filename, resolver, root=root)
     return Robot(description, resolver=resolver, floating_base=floating_base)

@@ -129,7 +129,9 @@ class Robot:
         self.mimic: dict[str, tuple[str, float, float]] = {
             f: (m.master, m.multiplier, m.offset) for f, m in s.mimic.items()
         }
-        self.limits = Limits(_readonly(s.lower), _readonly(s.upper), _readonly(s.velocity), _readonly(s.effort))
+        self.limits = Limits(
+            _readonly(s.lower), _readonly(s.upper), _readonly(s.velocity), _readonly(s.effort)
+        )
         self._link_index = {n: i for i, n in enumerate(s.link_names)}
         self._coord_index = {n: i for i, n in enumerate(s.coord_names)}
         self._frame_id = {}
@@ -226,9 +228,13 @@ class Robot:
         if np.any(outside):
             if not clip:
                 items = [
-                    f"{self.joint_names[i]}={q[i]:.6g} not in [{lo[i]:.6g}, {hi[i]:.6g}]" for i in np.flatnonzero(outside)
+                    f"{self.joint_names[i]}={q[i]:.6g} not in [{lo[i]:.6g}, {hi[i]:.6g}]"
+                    for i in np.flatnonzero(outside)
                 ]
-                raise ConfigurationError(f"{self.name}: out of limits: {'; '.join(items)} (use clip=True, or --clip on the command line, to clip)")
+                raise ConfigurationError(
+                    f"{self.name}: out of limits: {'; '.join(items)} "
+                    "(use clip=True, or --clip on the command line, to clip)"
+                )
             q = np.clip(q, lo, hi)
         return q
 
@@ -304,7 +310,8 @@ class Robot:
         if self._data is None:
             if self.model.nv > _PIN_DATA_MAX_NV:
                 raise KinematicsError(
-                    f"{self.name}: {self.model.nv} velocity coordinates; Pinocchio's Data needs O(nv^3) memory, "
+                    f"{self.name}: {self.model.nv} velocity coordinates; "
+                    "Pinocchio's Data needs O(nv^3) memory, "
                     f"so Jacobians and the centre of mass are limited to {_PIN_DATA_MAX_NV} coordinates"
                 )
             try:
@@ -474,7 +481,8 @@ class Robot:
             out = np.empty(shape, dtype=dt)
         elif out.shape != shape or out.dtype != dt or not out.flags.c_contiguous or not out.flags.writeable:
             raise ConfigurationError(
-                f"out must be a writable C-contiguous {dt} array of shape {shape}, got {out.dtype} {out.shape}"
+                f"out must be a writable C-contiguous {dt} array of shape {shape}, "
+                f"got {out.dtype} {out.shape}"
             )
         return kinematics.fk_batch(self._s, Qa, idx, out, backend, plan=plan)
 

@@ -85,4 +85,8 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> etree._Element:
         raise DescriptionError(f"cannot parse XML: {exc}", filename) from None
     if root is None:
         raise DescriptionError("empty document", filename)
+    docinfo = root.getroottree().docinfo
+    if docinfo.doctype or docinfo.internalDTD is not None:
+        # The byte search above cannot see a DOCTYPE in a UTF-16/32 document; the parser can.
+        raise DescriptionError("<!DOCTYPE> declarations are not allowed; remove the DOCTYPE", filename, 1)
     return root

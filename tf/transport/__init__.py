@@ -16,14 +16,14 @@ import threading
 from ._base import Publisher, Subscription, Transport
 from .inproc import InProcessTransport
 
-__all__ = [  # noqa: RUF022 - plain sorted(), as tests/test_api_surface.py checks
+__all__ = [
     "ENV_VAR",
-    "InProcessTransport",
-    "Publisher",
-    "Subscription",
     "TOPIC_JOINT_STATES",
     "TOPIC_TF",
     "TOPIC_TF_STATIC",
+    "InProcessTransport",
+    "Publisher",
+    "Subscription",
     "Transport",
     "default_transport",
 ]

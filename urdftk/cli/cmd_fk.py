@@ -26,7 +26,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("robot", metavar="ROBOT", help=".urdf or .xacro file")
     parser.add_argument("joints", nargs="*", metavar="joint:=value", help="joint values (rad or m)")
-    parser.add_argument("--frame", action="append", default=[], metavar="NAME", help="frame to print; repeatable")
+    parser.add_argument(
+        "--frame", action="append", default=[], metavar="NAME", help="frame to print; repeatable"
+    )
     parser.add_argument("--format", choices=("table", "json"), default="table", help="output format")
     parser.add_argument("--clip", action="store_true", help="clip out-of-limit values instead of failing")
     parser.add_argument(

@@ -43,7 +43,9 @@ class Result:
         self.packages = dict(packages or {})
 
     def __repr__(self) -> str:
-        return f"Result(text=<{len(self.text)} chars>, includes={self.includes!r}, packages={self.packages!r})"
+        return (
+            f"Result(text=<{len(self.text)} chars>, includes={self.includes!r}, packages={self.packages!r})"
+        )
 
 
 def expand(

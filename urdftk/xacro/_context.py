@@ -41,7 +41,9 @@ def _expr_error(exc: Exception, expr: str, scope: Any) -> XacroError:
     if isinstance(exc, NameError):
         name = getattr(exc, "name", None)
         if name in REFUSED_NAMES:
-            return SandboxError(f"refused by the xacro sandbox: '{name}' is not available (in expression '{expr}')")
+            return SandboxError(
+                f"refused by the xacro sandbox: '{name}' is not available (in expression '{expr}')"
+            )
         msg = str(exc)
         if name and isinstance(scope, Scope):
             hint = close_names(name, scope.visible_names())
@@ -169,7 +171,9 @@ class Context:
         """``$(dirname)``: absolute folder of the file being processed."""
         current = self.files[-1] if self.files else None
         if not current:
-            raise XacroError("Cannot substitute $(dirname): no file/directory information available (input is a string)")
+            raise XacroError(
+                "Cannot substitute $(dirname): no file/directory information available (input is a string)"
+            )
         return os.path.abspath(os.path.dirname(self.open_path(current)))
 
     def arg(self, name: str) -> str:
@@ -231,7 +235,7 @@ class Context:
                 except KeyError:
                     raise NameError(f"name '{name}' is not defined", name=name) from None
             else:
-                value = eval(code, scope)  # noqa: S307 - validated by the sandbox compiler
+                value = eval(code, scope)
         except XacroError:
             raise
         except RecursionError:
@@ -262,8 +266,28 @@ class Context:
     def eval_subst(self, expr: str) -> Any:
         """``$(eval expr)`` in the sandbox, names being helper functions and the args."""
         if self._eval_scope is None:
-            base = {k: self.root[k] for k in ("list", "dict", "map", "str", "float", "int", "len", "bool", "min", "max", "round")}
-            base.update({k: self.root["python"][k] for k in ("abs", "all", "any", "sum", "sorted", "range", "zip", "tuple", "set", "enumerate", "reversed")})
+            base = {
+                k: self.root[k]
+                for k in ("list", "dict", "map", "str", "float", "int", "len", "bool", "min", "max", "round")
+            }
+            base.update(
+                {
+                    k: self.root["python"][k]
+                    for k in (
+                        "abs",
+                        "all",
+                        "any",
+                        "sum",
+                        "sorted",
+                        "range",
+                        "zip",
+                        "tuple",
+                        "set",
+                        "enumerate",
+                        "reversed",
+                    )
+                }
+            )
             for k in ("__xacro_getattr__", "__xacro_pow__", "__xacro_lshift__"):
                 base[k] = self.root[k]
             self._eval_scope = EvalScope(self, base)
@@ -272,7 +296,7 @@ class Context:
             code = compile_expr(expr.strip())
             if not dict.__contains__(scope, "__builtins__"):
                 dict.__setitem__(scope, "__builtins__", {})
-            return eval(code, scope)  # noqa: S307 - validated by the sandbox compiler
+            return eval(code, scope)
         except XacroError:
             raise
         except Exception as exc:

@@ -42,8 +42,31 @@ LSHIFT = "__xacro_lshift__"
 
 #: Names that give access to the interpreter; never exposed, named in the refusal message.
 REFUSED_NAMES = frozenset(
-    "getattr setattr delattr hasattr vars globals locals open eval exec compile breakpoint input "
-    "dir help memoryview object super classmethod staticmethod property exit quit".split()
+    [
+        "getattr",
+        "setattr",
+        "delattr",
+        "hasattr",
+        "vars",
+        "globals",
+        "locals",
+        "open",
+        "eval",
+        "exec",
+        "compile",
+        "breakpoint",
+        "input",
+        "dir",
+        "help",
+        "memoryview",
+        "object",
+        "super",
+        "classmethod",
+        "staticmethod",
+        "property",
+        "exit",
+        "quit",
+    ]
 )
 
 _MAX_POW_BITS = 1 << 16

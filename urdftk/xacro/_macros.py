@@ -111,4 +111,3 @@ def first_element(children: list, start: int = 0) -> tuple[int, Element | None]:
         if children[i].__class__ is Element:
             return i, children[i]
     return len(children), None
-

@@ -16,6 +16,7 @@ from urdftk.xacro._tree import PI, CData, Comment, Element, Text
 
 __all__ = ["banner", "write_document"]
 
+
 def _esc(s: str) -> str:
     if "&" not in s and "<" not in s and '"' not in s and ">" not in s:
         return s
@@ -30,9 +31,7 @@ def _element(el: Element, indent: str, out: list) -> None:
             ((k, v),) = attrs.items()
             out.append(f'{indent}<{tag} {k}="{_esc(v)}"')
         else:
-            out.append(
-                indent + "<" + tag + "".join([f' {k}="{_esc(attrs[k])}"' for k in sorted(attrs)])
-            )
+            out.append(indent + "<" + tag + "".join([f' {k}="{_esc(attrs[k])}"' for k in sorted(attrs)]))
     else:
         out.append(indent + "<" + tag)
     children = el.children

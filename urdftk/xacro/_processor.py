@@ -11,67 +11,23 @@ import os
 from typing import Any
 
 from urdftk.errors import XacroError, close_names, format_location
-from urdftk.xacro._context import Context, IncludeIOError
-from urdftk.xacro._macros import Macro, first_element, resolve_macro, tree_size
-from urdftk.xacro._scope import NameSpace, Scope
+from urdftk.xacro._macros import Macro, first_element, resolve_macro
+from urdftk.xacro._scope import Scope
 from urdftk.xacro._symbols import make_root
-from urdftk.xacro._tree import Comment, Element, Text, XmlSyntaxError, clone, parse_xml
+from urdftk.xacro._tags import MAX_DEPTH, MAX_NODES, Tags, attrs_of, is_valid_name, to_bool
+from urdftk.xacro._tree import Comment, Element, Text, XmlSyntaxError, clone
 
-__all__ = ["MAX_CALLS", "MAX_DEPTH", "MAX_NODES", "Expander", "is_valid_name", "standalone_context", "to_bool"]
+__all__ = [
+    "MAX_CALLS",
+    "MAX_DEPTH",
+    "MAX_NODES",
+    "Expander",
+    "is_valid_name",
+    "standalone_context",
+    "to_bool",
+]
 
-MAX_DEPTH = 100  # nested macro calls
 MAX_CALLS = 200_000  # macro calls in one expansion
-MAX_NODES = 3_000_000  # nodes copied from macro bodies and blocks
-
-
-
-def to_bool(value: Any, condition: Any) -> bool:
-    """Stock's truth rule: 'true'/'false' words, integers in text, else Python truth."""
-    try:
-        if isinstance(value, str):
-            if value == "true" or value == "True":
-                return True
-            if value == "false" or value == "False":
-                return False
-            return bool(int(value))
-        return bool(value)
-    except Exception:
-        raise XacroError(
-            f'Xacro conditional "{condition}" evaluated to "{value}", which is not a boolean expression.'
-        ) from None
-
-
-def is_valid_name(name: Any) -> bool:
-    """Whether ``name`` can be a property or macro name (a Python identifier, not a keyword)."""
-    import keyword
-    import unicodedata
-
-    return (
-        isinstance(name, str)
-        and name.isidentifier()
-        and not keyword.iskeyword(name)
-        and (name.isascii() or unicodedata.normalize("NFKC", name) == name)
-    )
-
-
-def _index(children: list, node: Any, hint: int = 0) -> int:
-    if 0 <= hint < len(children) and children[hint] is node:
-        return hint
-    return children.index(node)
-
-
-def _attrs(node: Element, required: list[str], optional: list[str], ctx: Context) -> list[Any]:
-    attrs = node.attrs
-    out = []
-    for a in required:
-        if a not in attrs:
-            raise XacroError(f"{node.tag}: missing attribute '{a}'")
-        out.append(attrs[a])
-    out.extend(attrs.get(a) for a in optional)
-    extra = [a for a in attrs if a not in required and a not in optional and not a.startswith("xmlns:")]
-    if extra:
-        ctx.warn(f"{node.tag}: unknown attribute(s): {', '.join(extra)}")
-    return out
 
 
 def standalone_context() -> Expander:
@@ -80,17 +36,13 @@ def standalone_context() -> Expander:
     return ex
 
 
-class Expander(Context):
+class Expander(Tags):
     """One expansion of one document (see :class:`Context` for the arguments)."""
 
     def __init__(self, *args: Any, **kwargs: Any):
         super().__init__(*args, **kwargs)
         self.root = make_root(self)
-        self.empty = Text("\n\n")  # stock's shared blank node, moved by _drop_comments
         self.calls = 0
-        self.hint = 0  # likely index of the node a tag handler works on
-        self.include_keys: list[str] = []
-        self.copied = 0
         self._tags = {
             "xacro:insert_block": self._insert_block,
             "xacro:include": self._include,
@@ -120,10 +72,6 @@ class Expander(Context):
                 f"{filename or '<string>'}: the document or its macros nest too deeply to expand"
             ) from None
         return top
-
-    def parse_file(self, name: str) -> tuple[list, Element]:
-        """Read and parse a file (name as stock forms it; ``root_dir`` applied)."""
-        return parse_xml(self.read_text(name), name)
 
     # -- errors -----------------------------------------------------------------------------
     def _locate(self, err: XacroError, file: str | None, line: int) -> None:
@@ -215,7 +163,7 @@ class Expander(Context):
                     if handler is not None:
                         handler(parent, node, macros, symbols)
                     elif tag == "xacro:element":
-                        name = self.eval_text(_attrs(node, ["xacro:name"], [], self)[0], symbols)
+                        name = self.eval_text(attrs_of(node, ("xacro:name",), (), self)[0], symbols)
                         if not name:
                             raise XacroError("xacro:element: empty name")
                         node.attrs = {k: v for k, v in node.attrs.items() if k != "xacro:name"}
@@ -249,227 +197,8 @@ class Expander(Context):
             raise
 
     # -- tree edits (stock's replace_node and remove_previous_comments) ------------------------
-    def _replace(self, parent: Element, node: Any, owners: list[Element] | None) -> None:
-        children = parent.children
-        i = _index(children, node, self.hint)
-        if owners is None:
-            del children[i]
-            return
-        content: list = []
-        for owner in owners:
-            content.extend(owner.children)
-            if self.empty.parent is owner:
-                self.empty.parent = parent
-        children[i : i + 1] = content
-
-    def _drop_comments(self, parent: Element, node: Any) -> None:
-        children = parent.children
-        i = _index(children, node, self.hint)
-        nxt = children[i + 1] if i + 1 < len(children) else None
-        j = i - 1
-        while j >= 0:
-            prev = children[j]
-            if prev.__class__ is str and prev.isspace() and prev.count("\n") <= 1:
-                j -= 1
-                prev = children[j] if j >= 0 else None
-            if prev is not None and prev.__class__ is Comment:
-                del children[j]
-                i -= 1
-                j -= 1
-                continue
-            empty = self.empty
-            if nxt is not None and nxt is not empty:
-                old = empty.parent
-                if old is not None:
-                    old.children.remove(empty)
-                children.insert(_index(children, node, i) + 1, empty)
-                empty.parent = parent
-            self.hint = i
-            return
-        self.hint = i
-
-    # -- xacro tags -------------------------------------------------------------------------
-    def _insert_block(self, parent: Element, node: Element, macros: Scope, symbols: Scope) -> None:
-        (name,) = _attrs(node, ["name"], [], self)
-        if "**" + name in symbols:
-            block, content_only = symbols["**" + name], True
-        elif "*" + name in symbols:
-            block, content_only = symbols["*" + name], False
-        else:
-            blocks = [n.lstrip("*") for n in symbols.visible_names(blocks=True)]
-            hint = close_names(name, blocks)
-            extra = f" (did you mean {', '.join(map(repr, hint))}?)" if hint else ""
-            raise XacroError(f'Undefined block "{name}"{extra}')
-        self._budget(tree_size(block))
-        block = clone(block)
-        hint = self.hint
-        self.eval_all(block, macros, symbols)
-        self.hint = hint
-        if content_only:
-            self._replace(parent, node, [block])
-        else:
-            children = parent.children
-            children[_index(children, node, hint)] = block
-
-    def _include(self, parent: Element, node: Element, macros: Scope, symbols: Scope) -> None:
-        spec, ns, optional = _attrs(node, ["filename"], ["ns", "optional"], self)
-        if ns:
-            ns = self.eval_text(ns, symbols)
-            ns_macros = NameSpace(ctx=self)
-            macros[ns] = ns_macros
-            ns_symbols = NameSpace(symbols)
-            symbols[ns] = ns_symbols
-        else:
-            ns_macros, ns_symbols = macros, symbols
-        optional = to_bool(optional, None)
-        if first_element(node.children)[1] is not None:
-            self.warn("Child elements of a <xacro:include> tag are ignored")
-        spec = self.abs_filename(self.eval_text(spec, symbols))
-        if "*" in spec or "[" in spec or "?" in spec:
-            import glob
-
-            names = sorted(glob.glob(spec))
-            if not names:
-                self.warn(f'Include tag\'s filename spec "{spec}" matched no files.')
-        else:
-            names = [spec]
-        roots = []
-        hint = self.hint
-        for name in names:
-            self.includes.append(name)
-            self._check_include_cycle(name)
-            self.files.append(name)
-            self.include_sites.append(node)
-            self.include_keys.append(os.path.normpath(os.path.abspath(self.open_path(name))))
-            try:
-                _, root = self.parse_file(name)
-            except IncludeIOError:
-                self.files.pop()
-                self.include_sites.pop()
-                self.include_keys.pop()
-                if optional is True:
-                    continue
-                raise
-            self.eval_all(root, ns_macros, ns_symbols)
-            roots.append(root)
-            self._import_namespaces(parent, root.attrs)
-            self.files.pop()
-            self.include_sites.pop()
-            self.include_keys.pop()
-        self.hint = hint
-        self._drop_comments(parent, node)
-        self._replace(parent, node, roots)
-
-    def _check_include_cycle(self, name: str) -> None:
-        key = os.path.normpath(os.path.abspath(self.open_path(name)))
-        stack = self.include_keys
-        if key in stack:
-            k = stack.index(key)
-            chain = " -> ".join([*[f for f in self.files if f][k:], name])
-            raise XacroError(f"include cycle: {chain}")
-        if len(stack) >= MAX_DEPTH:
-            raise XacroError(f"includes nested more than {MAX_DEPTH} deep")
-
-    def _import_namespaces(self, parent: Element, attrs: dict[str, str]) -> None:
-        for k, v in attrs.items():
-            if k.startswith("xmlns:"):
-                old = parent.attrs.get(k)
-                if old is not None and old != v:
-                    self.warn(f"inconsistent namespace redefinitions for {k}:\n old: {old}\n new: {v} ({self.files[-1]})")
-                else:
-                    parent.attrs = {**parent.attrs, k: v}
-
-    def _property(self, parent: Element, node: Element, macros: Scope, table: Scope) -> None:
-        self._drop_comments(parent, node)
-        name, value, default, remove, scope, lazy = _attrs(
-            node, ["name"], ["value", "default", "remove", "scope", "lazy_eval"], self
-        )
-        name = self.eval_text(name, table)
-        if not is_valid_name(name):
-            raise XacroError(f"Property names must be valid python identifiers: {name}")
-        if name.startswith("__"):
-            raise XacroError(f"Property names must not start with double underscore:{name}")
-        remove = to_bool(self.eval_text(remove or "false", table), remove)
-        if sum([value is not None, default is not None, remove]) > 1:
-            raise XacroError(f"Property attributes default, value, and remove are mutually exclusive: {name}")
-        if remove and name in table:
-            del table[name]
-            self._replace(parent, node, None)
-            return
-        if default is not None:
-            if scope is not None:
-                self.warn(f"{name}: default property value can only be defined on local scope")
-            if name not in table:
-                value = default
-            else:
-                self._replace(parent, node, None)
-                return
-        if value is None:
-            name = "**" + name
-            value = node
-        self._replace(parent, node, None)
-        lazy = to_bool(self.eval_text(lazy or "true", table), lazy)
-        if scope == "global":
-            target = table.top()
-            lazy = False
-        elif scope == "parent":
-            target = table.parent
-            lazy = False
-            if not isinstance(table, NameSpace):
-                while isinstance(target, NameSpace):
-                    target = target.parent
-            if not isinstance(target, Scope):
-                raise XacroError(f'property "{name}" with scope="parent" at global scope: there is no parent scope')
-        else:
-            target = table
-        if not lazy and isinstance(value, str):
-            value = self.eval_text(value, table)
-        target.setitem(name, value, unevaluated=lazy)
-
-    def _macro(self, parent: Element, node: Element, macros: Scope, symbols: Scope) -> None:
-        self._drop_comments(parent, node)
-        name, params = _attrs(node, ["name"], ["params"], self)
-        if name == "call":
-            raise XacroError("Invalid use of macro name 'call'")
-        if "." in name:
-            raise XacroError(f"macro names must not contain '.' (reserved for namespaces): {name}")
-        if name.startswith("xacro:"):
-            self.warn(f"macro names must not contain prefix 'xacro:': {name}")
-            name = name[6:]
-        macros[name] = Macro(name, node, params or "", self.files[-1])
-        self._replace(parent, node, None)
-
-    def _arg(self, parent: Element, node: Element, macros: Scope, symbols: Scope) -> None:
-        name, default = _attrs(node, ["name", "default"], [], self)
-        if name not in self.args:
-            self.args[name] = str(self.eval_text(default, symbols))
-        self._drop_comments(parent, node)
-        self._replace(parent, node, None)
-
-    def _attribute(self, parent: Element, node: Element, macros: Scope, symbols: Scope) -> None:
-        name, value = (self.eval_text(a, symbols) for a in _attrs(node, ["name", "value"], [], self))
-        if not name:
-            raise XacroError("xacro:attribute: empty name")
-        parent.attrs = {**parent.attrs, str(name): str(value)}
-        self._replace(parent, node, None)
-
-    def _if(self, parent: Element, node: Element, macros: Scope, symbols: Scope) -> None:
-        self._drop_comments(parent, node)
-        (cond,) = _attrs(node, ["value"], [], self)
-        keep = to_bool(self.eval_text(cond, symbols), cond)
-        if node.tag == "xacro:unless":
-            keep = not keep
-        if keep:
-            if node.children:
-                hint = self.hint
-                self.eval_children(node, macros, symbols)
-                self.hint = hint
-            self._replace(parent, node, [node])
-        else:
-            self._replace(parent, node, None)
-
     def _dynamic_call(self, parent: Element, node: Element, macros: Scope, symbols: Scope) -> None:
-        (name,) = _attrs(node, ["macro"], [], self)
+        (name,) = attrs_of(node, ("macro",), (), self)
         if not name:
             raise XacroError("xacro:call is missing the 'macro' attribute")
         name = str(self.eval_text(name, symbols))
@@ -479,11 +208,6 @@ class Expander(Context):
             self._dynamic_call(parent, node, macros, symbols)
         else:
             self._call(parent, node, macros, symbols)
-
-    def _budget(self, nodes: int) -> None:
-        self.copied += nodes
-        if self.copied > MAX_NODES:
-            raise XacroError(f"expansion copies more than {MAX_NODES} nodes (exponential macro expansion?)")
 
     def _call(self, parent: Element, node: Element, macros: Scope, symbols: Scope) -> None:
         name = node.tag[6:]

@@ -18,8 +18,6 @@ _FLOAT_WORDS = frozenset({"inf", "infinity", "nan"})
 _WS = (" ", "\t", "\n", "\r")
 
 
-
-
 def literal(value: Any) -> Any:
     """Convert a property value the way stock xacro does: quoted text, int, float, bool, or as is.
 

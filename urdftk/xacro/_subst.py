@@ -20,8 +20,6 @@ __all__ = ["COMMANDS", "EvalScope", "collect", "convert_auto", "resolve"]
 COMMANDS = ("find", "env", "optenv", "dirname", "arg")
 
 
-
-
 def collect(text: str) -> list[str]:
     """Return the insides of the ``$(...)`` groups of ``text`` (no nesting, no escapes)."""
     out: list[str] = []
@@ -76,7 +74,9 @@ def _arg(ctx: Any, name: str) -> str:
             msg += f" (did you mean {', '.join(map(repr, hint))}?)"
         elif ctx.args:
             msg += f" (defined args: {', '.join(sorted(ctx.args))})"
-        raise XacroError(msg + f"; pass it as {name}:=VALUE or declare <xacro:arg name=\"{name}\" default=\"...\"/>") from None
+        raise XacroError(
+            msg + f'; pass it as {name}:=VALUE or declare <xacro:arg name="{name}" default="..."/>'
+        ) from None
 
 
 def _env(name: str) -> str:

@@ -17,14 +17,57 @@ from urdftk.xacro._yaml import YamlDict, YamlList
 
 __all__ = ["make_root", "tokenize"]
 
-_DIRECT = "list dict map len str float int bool True False min max round".split()
-_PYTHON = (
-    "list dict map len str float int bool True False min max round abs all any complex divmod "
-    "enumerate filter frozenset hash isinstance issubclass ord repr reversed slice set sum tuple zip "
-    "sorted range"
-).split()
-
-
+_DIRECT = [
+    "list",
+    "dict",
+    "map",
+    "len",
+    "str",
+    "float",
+    "int",
+    "bool",
+    "True",
+    "False",
+    "min",
+    "max",
+    "round",
+]
+_PYTHON = [
+    "list",
+    "dict",
+    "map",
+    "len",
+    "str",
+    "float",
+    "int",
+    "bool",
+    "True",
+    "False",
+    "min",
+    "max",
+    "round",
+    "abs",
+    "all",
+    "any",
+    "complex",
+    "divmod",
+    "enumerate",
+    "filter",
+    "frozenset",
+    "hash",
+    "isinstance",
+    "issubclass",
+    "ord",
+    "repr",
+    "reversed",
+    "slice",
+    "set",
+    "sum",
+    "tuple",
+    "zip",
+    "sorted",
+    "range",
+]
 
 
 def tokenize(s: str, sep: str = ",; ", skip_empty: bool = True) -> list[str]:

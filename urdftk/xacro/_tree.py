@@ -16,10 +16,10 @@ from pyexpat import ExpatError, ParserCreate, errors
 from urdftk.errors import XacroError
 
 __all__ = [
+    "PI",
     "CData",
     "Comment",
     "Element",
-    "PI",
     "Text",
     "XmlSyntaxError",
     "clone",
@@ -175,7 +175,7 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
     def start(name, attributes):
         if attributes:
             it = iter(attributes)
-            attrs = dict(zip(it, it))
+            attrs = dict(zip(it, it, strict=False))
             if "xmlns" in " ".join(attributes[::2]):  # minidom lists namespace declarations first
                 ns = {k: v for k, v in attrs.items() if k == "xmlns" or k.startswith("xmlns:")}
                 ns.update(attrs)
@@ -221,7 +221,8 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
 
     def doctype(*args):
         raise XmlSyntaxError(
-            "DOCTYPE and ENTITY declarations are not allowed (entities could read files or expand without bound)",
+            "DOCTYPE and ENTITY declarations are not allowed "
+            "(entities could read files or expand without bound)",
             filename,
             p.CurrentLineNumber,
             p.CurrentColumnNumber + 1,

@@ -92,6 +92,6 @@ def load_yaml_text(stream: Any, evaluate: Callable[[str], Any], filename: str) -
     for tag, factor in UNITS.items():
         Loader.add_constructor(tag, unit(factor))
     try:
-        return wrap(yaml.load(stream, Loader=Loader))  # noqa: S506 - a SafeLoader subclass
+        return wrap(yaml.load(stream, Loader=Loader))
     except yaml.YAMLError as e:
         raise XacroError(f"{filename}: invalid yaml: {e}") from None

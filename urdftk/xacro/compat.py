@@ -69,7 +69,9 @@ root_dir = os.curdir
 class XacroException(XacroError):
     """Stock's exception: ``str()`` is ``msg``, then the wrapped exception, then ``suffix``."""
 
-    def __init__(self, msg: Any = None, suffix: Any = None, exc: BaseException | None = None, macro: Any = None):
+    def __init__(
+        self, msg: Any = None, suffix: Any = None, exc: BaseException | None = None, macro: Any = None
+    ):
         super().__init__(msg)
         self.suffix = suffix
         self.exc = exc
@@ -199,7 +201,7 @@ def _write_element(el: Any, writer: Any, indent: str, addindent: str, newl: str)
 class _Document(xml.dom.minidom.Document):
     """A minidom document that serialises elements with stock xacro's pretty-printing rules."""
 
-    def writexml(self, writer, indent="", addindent="", newl="", encoding=None, standalone=None):  # noqa: D102
+    def writexml(self, writer, indent="", addindent="", newl="", encoding=None, standalone=None):
         decl = []
         if encoding:
             decl.append(f'encoding="{encoding}"')
@@ -301,7 +303,7 @@ def open_output(output_filename: str | None) -> Any:
     if folder:
         os.makedirs(folder, exist_ok=True)
     try:
-        return open(output_filename, "w")  # noqa: SIM115 - the caller closes it
+        return open(output_filename, "w")
     except OSError as e:
         raise XacroException("Failed to open output:", exc=e) from None
 

@@ -59,7 +59,10 @@ def process_args(argv: Sequence[str], require_input: bool = True) -> tuple[argpa
     if opts.verbosity is None:
         opts.verbosity = 1
     if opts.in_order:
-        print("xacro: in-order processing became default in ROS Melodic. You can drop the option.", file=sys.stderr)
+        print(
+            "xacro: in-order processing became default in ROS Melodic. You can drop the option.",
+            file=sys.stderr,
+        )
     opts.in_order = True
     inputs = opts.input
     del opts.input

@@ -1,0 +1,288 @@
+"""Transport benchmark: Zenoh (urdftk's transport) vs ZeroMQ PUB/SUB, two processes on 127.0.0.1.
+
+    python bench/transport.py [--seconds 5] [--burst 20000]
+
+Measures, for a TFMessage of 30 transforms (CDR, 2.6 kB):
+- latency p50/p99 (publisher's stamp before encoding -> subscriber after decoding) at 100 Hz and 1 kHz;
+- sustained messages/s with no loss (publisher sends as fast as it can, subscriber counts);
+- CPU per side at 1 kHz (process CPU time / wall time, in % of one core);
+- end to end: JointState -> RobotStatePublisher (own process) -> /tf -> Buffer lookup latency.
+Both transports use the same codec, so the ratios compare the transports themselves.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import random
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO))
+
+from tf.messages import Header, JointState, Quaternion, TFMessage, Time, Transform, TransformStamped, Vector3  # noqa: E402
+from tf.transport import _cdr  # noqa: E402
+
+N_TF = 30
+ROBOT = REPO / "examples/robots/mobile_manipulator_description/urdf/mobile_manipulator.urdf.xacro"
+
+
+def _message(k: int) -> TFMessage:
+    stamp = Time.from_nsec(time.time_ns())
+    return TFMessage(
+        tuple(
+            TransformStamped(
+                Header(stamp, "world" if i == 0 else f"link_{i - 1}"),
+                f"link_{i}",
+                Transform(Vector3(0.1 * i, 0.001 * k, 0.0), Quaternion(0.0, 0.0, math.sin(k * 1e-3), 1.0)),
+            )
+            for i in range(N_TF)
+        )
+    )
+
+
+# ------------------------------------------------------------------------------------ child roles
+def _child(kind: str, rate: float, count: int, port: int, domain: int) -> None:
+    """Publish ``count`` messages at ``rate`` (0: flat out), then report CPU use."""
+    if kind == "zenoh":
+        from tf.transport.zenoh import ZenohTransport
+
+        bus = ZenohTransport(domain_id=domain, environ={})
+        pub = bus.publisher("/tf", TFMessage)
+        pub.wait_for_subscribers(20)
+        time.sleep(0.5)
+        send = pub.publish
+    else:
+        import zmq
+
+        ctx = zmq.Context()
+        sock = ctx.socket(zmq.PUB)
+        sock.setsockopt(zmq.SNDHWM, 0)
+        sock.bind(f"tcp://127.0.0.1:{port}")
+        time.sleep(1.0)  # slow joiner
+
+        def send(msg: TFMessage) -> None:
+            sock.send(_cdr.encode(msg), copy=False)
+
+    print("go", flush=True)
+    cpu0, wall0 = time.process_time(), time.perf_counter()
+    period = 1.0 / rate if rate > 0 else 0.0
+    for k in range(count):
+        if period:
+            delay = wall0 + k * period - time.perf_counter()
+            if delay > 0:
+                time.sleep(delay)
+        send(_message(k))
+    cpu, wall = time.process_time() - cpu0, time.perf_counter() - wall0
+    print(f"cpu {cpu / wall * 100:.2f} wall {wall:.3f}", flush=True)
+    sys.stdin.read()  # stay alive until the parent has everything
+
+
+def _rsp_child(domain: int) -> None:
+    import urdftk
+    from tf.transport.zenoh import ZenohTransport
+    from urdftk.robot_state import RobotStatePublisher
+
+    robot = urdftk.load(ROBOT)
+    bus = ZenohTransport(domain_id=domain, environ={})
+    RobotStatePublisher(robot, bus, publish_frequency=0)
+    print("go", flush=True)
+    sys.stdin.read()
+
+
+def _jsp_child(domain: int, rate: float, count: int) -> None:
+    import urdftk
+    from tf.transport.zenoh import ZenohTransport
+
+    robot = urdftk.load(ROBOT)
+    bus = ZenohTransport(domain_id=domain, environ={})
+    pub = bus.publisher("/joint_states", JointState)
+    pub.wait_for_subscribers(20)
+    time.sleep(1.0)
+    print("go", flush=True)
+    rng = random.Random(0)
+    for _ in range(count):
+        q = robot.random(rng.randrange(1 << 30))
+        positions = robot.joint_positions(q)
+        pub.publish(
+            JointState(Header(Time.from_nsec(time.time_ns()), ""), positions.keys(), positions.values())
+        )
+        time.sleep(1.0 / rate)
+    sys.stdin.read()
+
+
+# ------------------------------------------------------------------------------------ measuring side
+def _spawn(*args: str) -> subprocess.Popen:
+    return subprocess.Popen(
+        [sys.executable, __file__, *args], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, cwd=REPO
+    )
+
+
+def _wait_line(proc: subprocess.Popen, prefix: str) -> str:
+    for line in proc.stdout:
+        if line.startswith(prefix):
+            return line.strip()
+    raise RuntimeError(f"child ended before {prefix!r}")
+
+
+def _run(kind: str, rate: float, count: int) -> dict:
+    port = random.randrange(20000, 60000)
+    domain = random.randrange(10_000, 1_000_000)
+    latencies: list[int] = []
+    done = threading.Event()
+
+    def on_payload(payload: bytes) -> None:
+        msg = _cdr.decode(TFMessage, payload)
+        latencies.append(time.time_ns() - msg.transforms[0].header.stamp.nanoseconds)
+        if len(latencies) >= count:
+            done.set()
+
+    closer = None
+    if kind == "zenoh":
+        from tf.transport.zenoh import ZenohTransport
+
+        bus = ZenohTransport(domain_id=domain, environ={})
+        bus.subscribe_raw("/tf", TFMessage, lambda payload, _info: on_payload(payload))
+        closer = bus.close
+        child = _spawn("_pub", kind, str(rate), str(count), str(port), str(domain))
+    else:
+        import zmq
+
+        child = _spawn("_pub", kind, str(rate), str(count), str(port), str(domain))
+        ctx = zmq.Context()
+        sock = ctx.socket(zmq.SUB)
+        sock.setsockopt(zmq.RCVHWM, 0)
+        sock.setsockopt(zmq.SUBSCRIBE, b"")
+        sock.connect(f"tcp://127.0.0.1:{port}")
+
+        def loop() -> None:
+            while not done.is_set():
+                if sock.poll(200):
+                    on_payload(sock.recv())
+
+        threading.Thread(target=loop, daemon=True).start()
+        closer = lambda: (done.set(), time.sleep(0.3), sock.close(0), ctx.term())  # noqa: E731
+    try:
+        _wait_line(child, "go")
+        cpu0, wall0 = time.process_time(), time.perf_counter()
+        report = _wait_line(child, "cpu")
+        done.wait(10)
+        wall = time.perf_counter() - wall0
+        sub_cpu = (time.process_time() - cpu0) / wall * 100
+    finally:
+        child.kill()
+        child.wait()
+        closer()
+    pub_cpu, pub_wall = float(report.split()[1]), float(report.split()[3])
+    lat = sorted(latencies)
+    pick = (lambda p: lat[min(len(lat) - 1, int(p * len(lat)))] / 1000) if lat else (lambda p: float("nan"))
+    return {
+        "received": len(lat),
+        "sent": count,
+        "p50_us": pick(0.50),
+        "p99_us": pick(0.99),
+        "pub_cpu": pub_cpu,
+        "sub_cpu": sub_cpu,
+        "msgs_per_s": count / pub_wall,
+    }
+
+
+def _end_to_end(count: int) -> dict:
+    import tf
+    import urdftk
+    from tf.transport.zenoh import ZenohTransport
+
+    robot = urdftk.load(ROBOT)
+    domain = random.randrange(10_000, 1_000_000)
+    buffer = tf.Buffer()
+    delays: list[int] = []
+    bus = ZenohTransport(domain_id=domain, environ={})
+    tool = "tool_center_point"
+
+    def on_static(msg: TFMessage) -> None:
+        for t in msg.transforms:
+            buffer.set_transform_static(t)
+
+    def on_tf(msg: TFMessage) -> None:
+        for t in msg.transforms:
+            buffer.set_transform(t)
+        stamp = msg.transforms[0].header.stamp
+        try:
+            buffer.lookup_transform(robot.root_link, tool, stamp)
+        except tf.TransformException:
+            return
+        delays.append(time.time_ns() - stamp.nanoseconds)
+
+    bus.subscribe("/tf_static", TFMessage, on_static)
+    bus.subscribe("/tf", TFMessage, on_tf)
+    rsp = _spawn("_rsp", str(domain))
+    jsp = None
+    try:
+        _wait_line(rsp, "go")
+        jsp = _spawn("_jsp", str(domain), "100", str(count))
+        _wait_line(jsp, "go")
+        time.sleep(count / 100 + 2.0)
+    finally:
+        for proc in (jsp, rsp):
+            if proc is not None:
+                proc.kill()
+                proc.wait()
+        bus.close()
+    lat = sorted(delays)
+    return {"n": len(lat), "p50_us": lat[len(lat) // 2] / 1000, "p99_us": lat[int(0.99 * len(lat))] / 1000}
+
+
+def main() -> None:
+    if len(sys.argv) > 1 and sys.argv[1] == "_pub":
+        _child(sys.argv[2], float(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), int(sys.argv[6]))
+        return
+    if len(sys.argv) > 1 and sys.argv[1] == "_rsp":
+        _rsp_child(int(sys.argv[2]))
+        return
+    if len(sys.argv) > 1 and sys.argv[1] == "_jsp":
+        _jsp_child(int(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4]))
+        return
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seconds", type=float, default=5.0, help="duration of each rate run")
+    parser.add_argument("--burst", type=int, default=20000, help="messages in the flat-out run")
+    args = parser.parse_args()
+    print(
+        f"python {sys.version.split()[0]}, {os.cpu_count()} cpus; TFMessage of {N_TF} transforms, "
+        f"{len(_cdr.encode(_message(0)))} bytes CDR"
+    )
+    results = {}
+    for rate in (100.0, 1000.0):
+        for kind in ("zenoh", "zmq"):
+            results[kind, rate] = r = _run(kind, rate, int(rate * args.seconds))
+            print(
+                f"{kind:5s} {rate:6.0f} Hz: got {r['received']}/{r['sent']}  latency p50 {r['p50_us']:.0f} us"
+                f"  p99 {r['p99_us']:.0f} us  cpu pub {r['pub_cpu']:.1f}%  sub {r['sub_cpu']:.1f}%",
+                flush=True,
+            )
+    for kind in ("zenoh", "zmq"):
+        results[kind, 0.0] = r = _run(kind, 0.0, args.burst)
+        print(
+            f"{kind:5s} flat out: received {r['received']}/{r['sent']}  {r['msgs_per_s']:.0f} msgs/s sent"
+            f"  (lost {r['sent'] - r['received']})",
+            flush=True,
+        )
+    z, q = results["zenoh", 1000.0], results["zmq", 1000.0]
+    throughput = results["zenoh", 0.0]["msgs_per_s"] / results["zmq", 0.0]["msgs_per_s"]
+    print(
+        f"ratio zenoh/zmq at 1 kHz: p50 {z['p50_us'] / q['p50_us']:.2f}x  "
+        f"p99 {z['p99_us'] / q['p99_us']:.2f}x  throughput {throughput:.2f}x"
+    )
+    e2e = _end_to_end(int(100 * args.seconds))
+    print(
+        f"end to end JointState -> robot_state_publisher -> /tf -> lookup: n={e2e['n']}  "
+        f"p50 {e2e['p50_us']:.0f} us  p99 {e2e['p99_us']:.0f} us"
+    )
+
+
+if __name__ == "__main__":
+    main()
