@@ -9,8 +9,7 @@ from _kinematics_oracle import erd_urdfs, raw_pin_poses
 
 import urdftk
 from urdftk._fk_numba import sincos
-from urdftk.errors import LinkNotFound
-from urdftk.model import ConfigurationError
+from urdftk.errors import ConfigurationError, LinkNotFound
 
 
 @pytest.fixture(scope="module")

@@ -20,8 +20,7 @@ import pytest
 from _kinematics_oracle import erd_urdfs, fd_jacobians, raw_pin_poses, yourdfpy_model, yourdfpy_poses
 
 import urdftk
-from urdftk._mimic import MimicWarning
-from urdftk.errors import DescriptionError
+from urdftk.errors import DescriptionError, MimicWarning
 
 FILES = erd_urdfs()
 ROBOTS_DIR = FILES[0].parents[2] if "robots" not in FILES[0].parts[-3:] else FILES[0].parents[3]

@@ -11,8 +11,14 @@ import pytest
 from _kinematics_oracle import fd_jacobians, raw_pin_poses
 
 import urdftk
-from urdftk.errors import DescriptionError, JointNotFound, LinkNotFound, UrdftkError
-from urdftk.model import ConfigurationError, KinematicsError
+from urdftk.errors import (
+    ConfigurationError,
+    DescriptionError,
+    JointNotFound,
+    KinematicsError,
+    LinkNotFound,
+    UrdftkError,
+)
 
 LIMIT = '<limit lower="-1.0" upper="1.5" effort="10" velocity="2"/>'
 ALL_TYPES = f"""<robot name="zoo">

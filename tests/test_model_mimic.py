@@ -12,7 +12,7 @@ import pytest
 from _kinematics_oracle import EXAMPLES, erd_urdfs, raw_pin_poses, xml_mimics
 
 import urdftk
-from urdftk._mimic import MimicWarning
+from urdftk.errors import MimicWarning
 
 FILES = {"/".join(p.parts[-3:]): p for p in erd_urdfs()}
 PIN_MIMIC_FAILS = ["talos_full_v2.urdf", "talos_full_v2_box.urdf", "romeo.urdf", "alex_psyonic_hands.urdf"]

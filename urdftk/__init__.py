@@ -10,18 +10,20 @@ Example:
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
-
 from urdftk.errors import (
+    ConfigurationError,
     DescriptionError,
     JointNotFound,
+    KinematicsError,
     LinkNotFound,
+    MimicWarning,
     PackageNotFound,
     ResourceError,
     UrdftkError,
     XacroError,
 )
 
+TYPE_CHECKING = False  # as typing.TYPE_CHECKING, without importing typing at start-up
 if TYPE_CHECKING:
     from urdftk.loading import load
     from urdftk.model import Robot
@@ -29,9 +31,12 @@ if TYPE_CHECKING:
 __version__ = "0.1.0"
 
 __all__ = [
+    "ConfigurationError",
     "DescriptionError",
     "JointNotFound",
+    "KinematicsError",
     "LinkNotFound",
+    "MimicWarning",
     "PackageNotFound",
     "ResourceError",
     "Robot",
@@ -42,7 +47,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> object:
     if name == "load":
         from urdftk.loading import load
 

@@ -21,19 +21,15 @@ import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from urdftk.errors import DescriptionError, close_names
+from urdftk.errors import DescriptionError, MimicWarning, close_names
 from urdftk.tree import JointInfo
 
-__all__ = ["ONE_DOF_TYPES", "Mimic", "MimicWarning", "resolve_mimics"]
+__all__ = ["ONE_DOF_TYPES", "Mimic", "resolve_mimics"]
 
 ONE_DOF_TYPES = ("revolute", "continuous", "prismatic")
 """Joint types with a single coordinate, the only ones a mimic may link."""
 
 _SEPARATORS = ("_", "/", "-", ":", ".")
-
-
-class MimicWarning(UserWarning):
-    """A ``<mimic>`` element was repaired (its target was found under the follower's name prefix)."""
 
 
 @dataclass(frozen=True)

@@ -6,13 +6,15 @@ The CLI turns any :class:`UrdftkError` into one line on stderr and exit status 2
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable
 
 __all__ = [
+    "ConfigurationError",
     "DescriptionError",
     "JointNotFound",
+    "KinematicsError",
     "LinkNotFound",
+    "MimicWarning",
     "NameNotFound",
     "PackageNotFound",
     "ResourceError",
@@ -44,6 +46,8 @@ def format_location(filename: str | None, line: int | None = None, column: int |
 
 def close_names(name: str, candidates: Iterable[str], n: int = 3) -> list[str]:
     """Return up to ``n`` names from ``candidates`` that look like ``name`` (for "did you mean")."""
+    import difflib  # only on the error path: keeps start-up light
+
     return difflib.get_close_matches(name, list(candidates), n=n, cutoff=0.6)
 
 
@@ -91,6 +95,18 @@ class DescriptionError(UrdftkError):
         self.message = message
         prefix = format_location(filename, line, column) + ": " if (filename or line) else ""
         super().__init__(prefix + message)
+
+
+class ConfigurationError(UrdftkError, ValueError):
+    """A joint configuration has the wrong length, a non-finite value, or a value out of limits."""
+
+
+class KinematicsError(UrdftkError):
+    """A kinematic quantity cannot be computed for this robot (for example: too many joints)."""
+
+
+class MimicWarning(UserWarning):
+    """A ``<mimic>`` element was repaired (its target was found under the follower's name prefix)."""
 
 
 class XacroError(UrdftkError):

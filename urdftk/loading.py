@@ -89,7 +89,8 @@ def expand(
     resolver = PackageResolver(pkg_paths, source=filename)
     if not args and not (filename or "").endswith(".xacro"):
         root = parse_xml(text, filename)
-        if not uses_xacro(root):
+        # Substring tests first: a document with neither can use no xacro, whatever its elements.
+        if ("${" not in text and "xacro:" not in text) or not uses_xacro(root):
             return text, filename, resolver, root
     from urdftk import xacro
 

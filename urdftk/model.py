@@ -35,25 +35,23 @@ from urdftk import kinematics
 from urdftk._pinmap import build_pinmap
 from urdftk._structure import FLOATING, build_structure
 from urdftk.description import Description
-from urdftk.errors import DescriptionError, JointNotFound, LinkNotFound, UrdftkError
+from urdftk.errors import (
+    ConfigurationError,
+    DescriptionError,
+    JointNotFound,
+    KinematicsError,
+    LinkNotFound,
+)
 from urdftk.pose import Pose
 from urdftk.resources import PackageResolver
 
-__all__ = ["ConfigurationError", "KinematicsError", "Limits", "Robot"]
+__all__ = ["Limits", "Robot"]
 
 _PIN_FK_MAX_NV = 300
 """Above this many velocity coordinates, single FK uses our own code (Pinocchio's Data is O(nv^3))."""
 _PIN_DATA_MAX_NV = 500
 """Above this, Jacobians and the centre of mass are refused (Pinocchio's Data would need gigabytes)."""
 _REFERENCES = ("world", "local", "local_world_aligned")
-
-
-class ConfigurationError(UrdftkError, ValueError):
-    """A joint configuration has the wrong length, a non-finite value, or a value out of limits."""
-
-
-class KinematicsError(UrdftkError):
-    """A kinematic quantity cannot be computed for this robot (for example: too many joints)."""
 
 
 @dataclass(frozen=True, eq=False)

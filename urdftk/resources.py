@@ -23,8 +23,7 @@ import os
 import re
 import site
 import sys
-from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from urllib.parse import unquote
 
@@ -142,15 +141,19 @@ def _enclosing_package(source: Path) -> Path | None:
     return None
 
 
-@dataclass
 class _Place:
-    label: str
-    load: object  # Callable[[], dict[str, Path]]
-    packages: dict[str, Path] | None = field(default=None)
+    """One search place, crawled on first use."""
+
+    __slots__ = ("label", "load", "packages")
+
+    def __init__(self, label: str, load: Callable[[], dict[str, Path]]) -> None:
+        self.label = label
+        self.load = load
+        self.packages: dict[str, Path] | None = None
 
     def lookup(self, name: str) -> Path | None:
         if self.packages is None:
-            self.packages = self.load()  # type: ignore[operator]
+            self.packages = self.load()
         return self.packages.get(name)
 
 

@@ -1,8 +1,9 @@
 """The ``urdftk`` console script: argparse subcommands, one module each (``urdftk/cli/cmd_*.py``).
 
-Each ``cmd_*`` module defines ``register(subparsers)``, which adds its subcommand and sets
-``func`` to a callable ``(args) -> int``. Modules import heavy libraries only inside ``func`` so
-that ``urdftk xacro`` starts fast.
+Each ``cmd_*`` module defines ``register(subparsers)``, which adds its subcommand(s) and sets
+``func`` to a callable ``(args) -> int``; :data:`COMMANDS` maps each subcommand to its module.
+Only the module of the command being run is imported, and modules import heavy libraries only
+inside ``func``, so that ``urdftk xacro`` starts fast.
 
 Every error a user can cause ends as one line on stderr and exit status 2, never a traceback.
 """
@@ -13,11 +14,10 @@ import argparse
 import contextlib
 import importlib
 import os
-import pkgutil
 import sys
 from collections.abc import Sequence
 
-__all__ = ["main"]
+__all__ = ["COMMANDS", "main"]
 
 
 class _Parser(argparse.ArgumentParser):
@@ -27,7 +27,26 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-def _build_parser() -> argparse.ArgumentParser:
+COMMANDS: dict[str, str] = {
+    "bag": "cmd_bag",
+    "check": "cmd_check",
+    "fk": "cmd_fk",
+    "graph": "cmd_graph",
+    "joint-state-publisher": "cmd_nodes",
+    "play": "cmd_bag",
+    "record": "cmd_bag",
+    "robot-state-publisher": "cmd_nodes",
+    "router": "cmd_router",
+    "tf": "cmd_tf",
+    "topic": "cmd_topic",
+    "view": "cmd_view",
+    "xacro": "cmd_xacro",
+}
+"""Subcommand -> the ``urdftk.cli`` module that registers it (a test keeps this complete)."""
+
+
+def _build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """Build the parser; with ``only``, register just the module of that subcommand (fast start)."""
     parser = _Parser(
         prog="urdftk",
         description="Robot descriptions, kinematics and frames without ROS.",
@@ -37,11 +56,9 @@ def _build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"urdftk {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
-    pkg_dir = os.path.dirname(__file__)
-    for info in sorted(pkgutil.iter_modules([pkg_dir]), key=lambda m: m.name):
-        if info.name.startswith("cmd_"):
-            module = importlib.import_module(f"{__name__}.{info.name}")
-            module.register(sub)
+    modules = [COMMANDS[only]] if only in COMMANDS else sorted(set(COMMANDS.values()))
+    for name in modules:
+        importlib.import_module(f"{__name__}.{name}").register(sub)
     return parser
 
 
@@ -64,7 +81,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns:
         The exit status: 0 success, 1 findings (``check``), 2 bad input or failure.
     """
-    parser = _build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    parser = _build_parser(argv[0] if argv else None)
     args = parser.parse_args(argv)
     try:
         return int(args.func(args) or 0)

@@ -72,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("--listen and --publish exclude each other (listen shows what others publish)")
     if args.port is not None and not 0 <= args.port <= 65535:
         raise ValueError(f"--port {args.port} is not a TCP port (0..65535)")
-    robot, files = load_robot(args.robot, mappings, args.package_path)
+    robot, files = load_robot(args.robot, mappings, args.package_path, with_includes=args.watch)
     transport = None
     if args.listen or args.publish:
         from tf.transport.zenoh import ZenohTransport
@@ -104,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
 
             def reload() -> None:
                 try:
-                    new_robot, new_files = load_robot(args.robot, mappings, args.package_path)
+                    new_robot, new_files = load_robot(args.robot, mappings, args.package_path, with_includes=True)
                 except (UrdftkError, OSError, ValueError) as exc:
                     text = " ".join(str(exc).split())
                     print(

@@ -249,7 +249,7 @@ class MeshcatBackend(SceneBackend):
         self._set_object(name, self._mesh_object(part, opacity))
 
     def add_label(self, name: str, text: str, *, visible: bool = True) -> None:
-        """meshcat has no text labels: nothing is drawn."""
+        """Meshcat has no text labels: nothing is drawn."""
 
     def add_lines(
         self, name: str, segments: np.ndarray, rgb: tuple[float, float, float], *, width: float, visible: bool = True

@@ -23,6 +23,8 @@ def load_robot(
     path: str | os.PathLike[str],
     args: Mapping[str, str] | None = None,
     package_paths: Iterable[str | os.PathLike[str]] = (),
+    *,
+    with_includes: bool = False,
 ) -> tuple[Any, tuple[Path, ...]]:
     """Load a robot from a .urdf/.xacro file and list the files it depends on.
 
@@ -30,6 +32,7 @@ def load_robot(
         path: The robot file.
         args: xacro arguments.
         package_paths: Extra package folders, searched first.
+        with_includes: Also list the files xacro includes (expands the file once more).
 
     Returns:
         ``(robot, files)``: the :class:`urdftk.Robot` and the input file followed by its includes.
@@ -37,28 +40,16 @@ def load_robot(
     Raises:
         UrdftkError: Whatever loading raises (with file:line).
     """
-    from urdftk.description import parse_description
-    from urdftk.errors import ResourceError
-    from urdftk.loading import is_xacro
-    from urdftk.model import Robot
-    from urdftk.resources import PackageResolver
+    import urdftk
 
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ResourceError(f"{p}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ResourceError(f"{p}: cannot read: {exc}") from None
-    resolver = PackageResolver(list(package_paths), source=str(p))
-    files: tuple[Path, ...] = (p,)
-    if is_xacro(str(p), text):
+    robot = urdftk.load(path, args=dict(args or {}), package_paths=list(package_paths))
+    files: tuple[Path, ...] = (Path(path),)
+    if with_includes:
         from urdftk import xacro
 
-        result = xacro.expand(str(p), dict(args or {}), resolver=resolver)
-        text, files = result.text, (p, *result.includes)
-    description = parse_description(text, str(p), resolver)
-    return Robot(description, resolver=resolver), files
+        result = xacro.expand(path, dict(args or {}), resolver=robot.resolver, verbosity=0)
+        files = (Path(path), *result.includes)
+    return robot, files
 
 
 def _stamp(path: Path) -> _Stamp:

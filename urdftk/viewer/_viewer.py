@@ -246,7 +246,6 @@ class Viewer:
     def _make_state_publisher(self, robot: Any) -> Any:
         import tf
         from tf.transport import TOPIC_JOINT_STATES
-
         from urdftk.joint_state import JointStatePublisher
         from urdftk.robot_state import RobotStatePublisher
 
