@@ -158,56 +158,70 @@ def test_default_transport_is_lazy_shared_and_chosen_by_env():
     assert callable(default_transport)
 
 
-def test_examples_run_together_in_process():
-    sys.path.insert(0, str(EXAMPLES))
-    try:
-        import tf_broadcaster
-        import tf_listener
-    finally:
-        sys.path.remove(str(EXAMPLES))
-    with InProcessTransport() as bus:
-        stop = threading.Event()
-        th = threading.Thread(
-            target=tf_broadcaster.myPublishFunction, kwargs={"stop": stop, "transport": bus}
-        )
-        th.start()
-        lines = []
+def _course_broadcaster() -> list[str]:
+    """The Python broadcaster's code lines, as printed in the course (section 4.2.2.3)."""
+    text = (REPO.parent / "shared" / "seed" / "ros-course.txt").read_text(encoding="utf-8")
+    section = text[text.index("4.2.2.3 Publishing a tf marker in Python") :]
+    block = section.split("```")[1]
+    return [ln.rstrip() for ln in block.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
 
-        class Out:
-            def write(self, s):
-                lines.append(s)
 
-        try:
-            printed = tf_listener.listen(count=2, timeout=5.0, transport=bus, out=Out())
-        finally:
-            stop.set()
-            th.join(5)
-    assert printed == 2
-    text = "".join(lines)
-    assert "- Translation: [0.200, 0.250, 1.000]" in text
-    assert "in RPY (radian) [0.250, 0.100, 0.200]" in text
+def test_course_broadcaster_differs_only_in_rospy_lines():
+    import difflib
+
+    course = _course_broadcaster()
+    ours = [
+        ln.rstrip()
+        for ln in (EXAMPLES / "tf_broadcaster.py").read_text().splitlines()
+        if ln.strip() and not ln.lstrip().startswith("#")
+    ]
+    assert any("sendTransform" in ln for ln in course), "course block not found"
+    # The course passes my_FrameName without defining it; the example defines it (one added line).
+    undefined_name_fix = 'my_FrameName = "my_FrameName"'
+    matcher = difflib.SequenceMatcher(a=course, b=ours, autojunk=False)
+    for op, i1, i2, j1, j2 in matcher.get_opcodes():
+        if op == "equal":
+            continue
+        removed, added = course[i1:i2], [ln for ln in ours[j1:j2] if ln != undefined_name_fix]
+        assert all("rospy" in ln for ln in removed), (removed, added)
+        assert len(added) <= len(removed), (removed, added)
 
 
 @pytest.mark.timeout(120)
-def test_example_scripts_run_with_a_bounded_duration():
-    env = dict(os.environ, URDFTK_TRANSPORT="inproc")
-    br = subprocess.run(
-        [sys.executable, str(EXAMPLES / "tf_broadcaster.py"), "--duration", "0.3"],
+def test_course_broadcaster_reaches_a_listener_in_another_process():
+    """The course script, unchanged but for rospy lines, talks to a listener process over Zenoh."""
+    import signal
+
+    env = {k: v for k, v in os.environ.items() if k != "URDFTK_TRANSPORT"}
+    env["ROS_DOMAIN_ID"] = str(100 + os.getpid() % 100)
+    br = subprocess.Popen(
+        [sys.executable, str(EXAMPLES / "tf_broadcaster.py")],
         env=env,
-        capture_output=True,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
         text=True,
-        timeout=60,
     )
-    assert br.returncode == 0, br.stderr
-    ls = subprocess.run(
-        [sys.executable, str(EXAMPLES / "tf_listener.py"), "--broadcast", "--count", "2"],
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
-    assert ls.returncode == 0, ls.stderr
-    assert ls.stdout.count("- Translation: [0.200, 0.250, 1.000]") == 2
+    try:
+        ls = subprocess.run(
+            [sys.executable, str(EXAMPLES / "tf_listener.py"), "--count", "2", "--timeout", "20"],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=90,
+        )
+        assert ls.returncode == 0, ls.stderr
+        assert ls.stdout.count("- Translation: [0.200, 0.250, 1.000]") == 2
+        rpy = euler_from_quaternion(quaternion_from_euler(0.25, 0.1, 0.2))
+        assert f"in RPY (radian) [{rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}]" in ls.stdout
+        assert br.poll() is None, br.stderr.read()
+        br.send_signal(signal.SIGINT)  # Ctrl-C: the script's `except KeyboardInterrupt` ends it cleanly
+        _, err = br.communicate(timeout=20)
+        assert br.returncode == 0, err
+        assert "Traceback" not in err
+    finally:
+        if br.poll() is None:
+            br.kill()
+            br.wait()
 
 
 def test_course_quaternion_matches_matrix_composition():

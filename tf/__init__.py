@@ -24,6 +24,7 @@ from .exceptions import (
     TransformException,
 )
 from .listener import TransformListener
+from .rate import Rate
 from .messages import (
     Duration,
     Header,
@@ -58,6 +59,7 @@ __all__ = [
     "Pose",
     "PoseStamped",
     "Quaternion",
+    "Rate",
     "StaticTransformBroadcaster",
     "TFMessage",
     "Time",

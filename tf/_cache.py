@@ -1,8 +1,9 @@
 """Per-child-frame time caches (tf2's TimeCache and StaticCache), clock-free and lock-free.
 
 Samples are kept oldest-first in parallel columns: ``stamps`` (int nanoseconds, a list so that
-``bisect`` runs at C speed), ``parents`` (frame ids) and ``data`` (an ``array('d')`` of seven
-doubles per sample: qx qy qz qw tx ty tz). Pruned samples are skipped with a start offset ``lo``
+``bisect`` runs at C speed), ``parents`` (frame ids) and ``data`` (an ``array('d')`` of nine
+doubles per sample: qx qy qz qw tx ty tz, then ``theta`` and ``k`` describing the slerp from this
+sample to the next one, computed when the pair forms; see ``pair_constants``). Pruned samples are skipped with a start offset ``lo``
 and compacted in batches, which keeps pruning O(1) amortised with tf2's exact semantics.
 The newest sample is also kept as a ready-made tuple, ``latest`` = (stamp, parent, qx, qy, qz,
 qw, tx, ty, tz), for the hot "latest" path. The owner (``_core.BufferCore``) does the locking.
@@ -15,7 +16,7 @@ from array import array
 from bisect import bisect_right
 from struct import Struct
 
-__all__ = ["NO_DATA", "Sample", "StaticCache", "TimeCache", "extrapolation_error", "slerp"]
+__all__ = ["NO_DATA", "PAIR", "Sample", "StaticCache", "TimeCache", "extrapolation_error", "interpolate", "pair_constants"]
 
 Sample = tuple  # (stamp_ns, parent_id, qx, qy, qz, qw, tx, ty, tz)
 
@@ -25,9 +26,12 @@ BACKWARD = 4
 NO_DATA = 5
 
 _REC = Struct("7d")
-_REC2 = Struct("14d")
-_STRIDE = 7
+PAIR = Struct("16d")  # sample i (7), theta, k, sample i + 1 (7): everything to interpolate
+_STRIDE = 9
+_BYTES = _STRIDE * 8
 _COMPACT_MIN = 32
+_NO_PAIR = (0.0, 0.0)
+_sin = math.sin
 
 
 def _fmt_time(ns: int) -> str:
@@ -54,23 +58,40 @@ def extrapolation_error(code: int, t: int, bound: int) -> str:
     )
 
 
-def slerp(
-    x1: float, y1: float, z1: float, w1: float, x2: float, y2: float, z2: float, w2: float, r: float
-) -> tuple[float, float, float, float]:
-    """tf2's Quaternion::slerp: shortest path, angle 0 gives the first quaternion, no normalisation."""
+def pair_constants(
+    x1: float, y1: float, z1: float, w1: float, x2: float, y2: float, z2: float, w2: float
+) -> tuple[float, float]:
+    """(theta, k) for slerp from q1 to q2, as tf2's Quaternion::slerp computes them.
+
+    ``theta`` is the half angle of tf2's angleShortestPath (acos argument clamped as tf2Acos does),
+    negated when the shortest path negates q2; ``k`` = 1 / sin(theta). theta 0 means "use q1".
+    """
     d = x1 * x2 + y1 * y2 + z1 * z2 + w1 * w2
     s = math.sqrt((x1 * x1 + y1 * y1 + z1 * z1 + w1 * w1) * (x2 * x2 + y2 * y2 + z2 * z2 + w2 * w2))
-    if d < 0.0:
-        theta = math.acos(-d / s)
-        x2, y2, z2, w2 = -x2, -y2, -z2, -w2
-    else:
-        theta = math.acos(d / s)
+    c = (-d if d < 0.0 else d) / s
+    theta = math.acos(c if c < 1.0 else 1.0)
     if theta == 0.0:
-        return x1, y1, z1, w1
-    k = 1.0 / math.sin(theta)
-    s0 = math.sin((1.0 - r) * theta)
-    s1 = math.sin(r * theta)
-    return (x1 * s0 + x2 * s1) * k, (y1 * s0 + y2 * s1) * k, (z1 * s0 + z2 * s1) * k, (w1 * s0 + w2 * s1) * k
+        return 0.0, 0.0
+    return (-theta if d < 0.0 else theta), 1.0 / math.sin(theta)
+
+
+def interpolate(data: array, i: int, r: float) -> tuple[float, ...]:
+    """tf2's TimeCache::interpolate of samples i and i + 1 at ratio ``r``: slerp + lerp.
+
+    Same arithmetic as tf2's Quaternion::slerp with theta and 1/sin(theta) taken from the row.
+    """
+    x1, y1, z1, w1, ax, ay, az, th, k, x2, y2, z2, w2, bx, by, bz = PAIR.unpack_from(data, i * _BYTES)
+    q = 1.0 - r
+    if th:
+        a = _sin(q * th) * k
+        b = _sin(r * th) * k
+        if th < 0.0:
+            a = -a
+        x1 = x1 * a + x2 * b
+        y1 = y1 * a + y2 * b
+        z1 = z1 * a + z2 * b
+        w1 = w1 * a + w2 * b
+    return x1, y1, z1, w1, q * ax + r * bx, q * ay + r * by, q * az + r * bz
 
 
 class StaticCache:
@@ -136,7 +157,13 @@ class TimeCache:
         self.latest = None
 
     def _record(self, i: int) -> Sample:
-        return (self.stamps[i], self.parents[i], *_REC.unpack_from(self.data, i * 56))
+        return (self.stamps[i], self.parents[i], *_REC.unpack_from(self.data, i * _BYTES))
+
+    def _set_pair(self, i: int) -> None:
+        """Store the slerp constants of samples (i, i + 1) in sample i's row."""
+        data = self.data
+        j = i * _STRIDE
+        data[j + 7 : j + 9] = array("d", pair_constants(*data[j : j + 4], *data[j + 9 : j + 13]))
 
     def insert(self, sample: Sample) -> bool:
         """Insert ``sample``; False (TF_OLD_DATA) if older than newest - cache time.
@@ -164,9 +191,13 @@ class TimeCache:
             if t < limit:
                 return False
             if t > newest:
+                data = self.data
+                j = n * _STRIDE - _STRIDE
+                data[j + 7 : j + 9] = array("d", pair_constants(*data[j : j + 4], *sample[2:6]))
                 stamps.append(t)
                 self.parents.append(sample[1])
-                self.data.extend(sample[2:])
+                data.extend(sample[2:])
+                data.extend(_NO_PAIR)
                 self.latest = sample
                 return True
             i = bisect_right(stamps, t, lo)
@@ -179,9 +210,13 @@ class TimeCache:
             i = n
         stamps.insert(i, t)
         self.parents.insert(i, sample[1])
-        self.data[i * _STRIDE : i * _STRIDE] = array("d", sample[2:])
+        self.data[i * _STRIDE : i * _STRIDE] = array("d", (*sample[2:], 0.0, 0.0))
         if i == len(stamps) - 1:
             self.latest = sample
+        else:
+            self._set_pair(i)
+        if i > 0:
+            self._set_pair(i - 1)
         return True
 
     def _compact(self) -> None:
@@ -214,17 +249,7 @@ class TimeCache:
         parents = self.parents
         if s1 == t or parents[i] != parents[i + 1]:
             return self._record(i)  # exact hit, or re-parenting: the older sample, no interpolation
-        x1, y1, z1, w1, ax, ay, az, x2, y2, z2, w2, bx, by, bz = _REC2.unpack_from(self.data, i * 56)
-        r = (t - s1) / (stamps[i + 1] - s1)
-        q = 1.0 - r
-        return (
-            t,
-            parents[i],
-            *slerp(x1, y1, z1, w1, x2, y2, z2, w2, r),
-            q * ax + r * bx,
-            q * ay + r * by,
-            q * az + r * bz,
-        )
+        return (t, parents[i], *interpolate(self.data, i, (t - s1) / (stamps[i + 1] - s1)))
 
     def error_at(self, t: int) -> tuple[int, str]:
         """The error code and tf2 text explaining why ``sample_at(t)`` returned None."""
