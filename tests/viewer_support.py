@@ -127,7 +127,7 @@ class SceneClient:
         self.created: dict[str, dict] = {}
         self.times: dict[str, float] = {}
         self.bytes_received = 0
-        self._lock = threading.Lock()
+        self._lock = threading.RLock()
         self._changed = threading.Condition(self._lock)
         self._thread = threading.Thread(target=self._run, daemon=True)
         self._thread.start()
@@ -182,7 +182,7 @@ class SceneClient:
         with self._changed:
             while True:
                 value = predicate(self)
-                if value:
+                if value is not None and value is not False:
                     return value
                 left = deadline - time.monotonic()
                 if left <= 0:
@@ -215,6 +215,17 @@ def colour_mask(img: np.ndarray, rgb: Sequence[int], tol: int = 40) -> np.ndarra
     s_t, s_p = target.sum() + 1e-6, pix.sum(axis=2) + 1e-6
     chroma = np.abs(pix / s_p[..., None] - target / s_t).max(axis=2)
     return chroma < tol / 255.0
+
+
+SCENE = (0.0, 0.0, 0.64, 1.0)
+"""The part of a 1000-pixel-wide page not covered by viser's control panel."""
+
+
+def scene_only(mask: np.ndarray) -> np.ndarray:
+    """``mask`` with the control-panel side (right of :data:`SCENE`) cleared."""
+    out = mask.copy()
+    out[:, int(SCENE[2] * mask.shape[1]) :] = False
+    return out
 
 
 def count_in(mask: np.ndarray, box: tuple[float, float, float, float]) -> int:

@@ -24,7 +24,6 @@ from .exceptions import (
     TransformException,
 )
 from .listener import TransformListener
-from .rate import Rate
 from .messages import (
     Duration,
     Header,
@@ -41,6 +40,7 @@ from .messages import (
     Vector3,
     Vector3Stamped,
 )
+from .rate import Rate
 
 __all__ = [
     "BackwardExtrapolationException",

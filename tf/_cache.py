@@ -3,10 +3,11 @@
 Samples are kept oldest-first in parallel columns: ``stamps`` (int nanoseconds, a list so that
 ``bisect`` runs at C speed), ``parents`` (frame ids) and ``data`` (an ``array('d')`` of nine
 doubles per sample: qx qy qz qw tx ty tz, then ``theta`` and ``k`` describing the slerp from this
-sample to the next one, computed when the pair forms; see ``pair_constants``). Pruned samples are skipped with a start offset ``lo``
-and compacted in batches, which keeps pruning O(1) amortised with tf2's exact semantics.
-The newest sample is also kept as a ready-made tuple, ``latest`` = (stamp, parent, qx, qy, qz,
-qw, tx, ty, tz), for the hot "latest" path. The owner (``_core.BufferCore``) does the locking.
+sample to the next one, computed when the pair forms; see ``pair_constants``). Pruned samples
+are skipped with a start offset ``lo`` and compacted in batches, which keeps pruning O(1)
+amortised with tf2's exact semantics. The newest sample is also kept as a ready-made tuple,
+``latest`` = (stamp, parent, qx, qy, qz, qw, tx, ty, tz), for the hot "latest" path. The owner
+(``_core.BufferCore``) does the locking.
 """
 
 from __future__ import annotations
@@ -16,7 +17,16 @@ from array import array
 from bisect import bisect_right
 from struct import Struct
 
-__all__ = ["NO_DATA", "PAIR", "Sample", "StaticCache", "TimeCache", "extrapolation_error", "interpolate", "pair_constants"]
+__all__ = [
+    "NO_DATA",
+    "PAIR",
+    "Sample",
+    "StaticCache",
+    "TimeCache",
+    "extrapolation_error",
+    "interpolate",
+    "pair_constants",
+]
 
 Sample = tuple  # (stamp_ns, parent_id, qx, qy, qz, qw, tx, ty, tz)
 
@@ -32,6 +42,8 @@ _BYTES = _STRIDE * 8
 _COMPACT_MIN = 32
 _NO_PAIR = (0.0, 0.0)
 _sin = math.sin
+_acos = math.acos
+_sqrt = math.sqrt
 
 
 def _fmt_time(ns: int) -> str:
@@ -191,9 +203,19 @@ class TimeCache:
             if t < limit:
                 return False
             if t > newest:
+                # pair_constants(previous newest, sample), inlined: this is the hot insert path
+                _, _, x1, y1, z1, w1, _, _, _ = self.latest
+                _, _, x2, y2, z2, w2, _, _, _ = sample
+                d = x1 * x2 + y1 * y2 + z1 * z2 + w1 * w2
+                c = (-d if d < 0.0 else d) / _sqrt(
+                    (x1 * x1 + y1 * y1 + z1 * z1 + w1 * w1) * (x2 * x2 + y2 * y2 + z2 * z2 + w2 * w2)
+                )
                 data = self.data
-                j = n * _STRIDE - _STRIDE
-                data[j + 7 : j + 9] = array("d", pair_constants(*data[j : j + 4], *sample[2:6]))
+                j = n * _STRIDE - 2
+                if c < 1.0:
+                    th = _acos(c)
+                    data[j] = -th if d < 0.0 else th
+                    data[j + 1] = 1.0 / _sin(th)
                 stamps.append(t)
                 self.parents.append(sample[1])
                 data.extend(sample[2:])

@@ -9,12 +9,11 @@ callbacks are collected under it and run after it is released.
 from __future__ import annotations
 
 import logging
-import math
 import threading
 from collections.abc import Callable
 from typing import Any
 
-from . import _frames_text
+from . import _fk, _frames_text
 from ._cache import Sample, StaticCache, TimeCache
 from ._codes import (
     BACKWARD_EXTRAPOLATION,
@@ -27,6 +26,7 @@ from ._codes import (
     NO_ERROR,
 )
 from ._math import canonical_rotation, compose
+from ._reject import reject
 from ._walk import TreeWalker
 
 __all__ = [
@@ -70,6 +70,7 @@ class BufferCore(TreeWalker):
         self._ids: dict[str, int] = {"NO_PARENT": 0}
         self._names: list[str] = ["NO_PARENT"]
         self._caches: list[TimeCache | StaticCache | None] = [None]
+        self._records: list[tuple | None] = [None]  # see _fk: composed newest links, per frame
         self._authority: dict[int, str] = {}
         self._requests: dict[int, tuple[TransformableCallback, str, str, int]] = {}
         self._request_counter = 0
@@ -95,9 +96,9 @@ class BufferCore(TreeWalker):
         qx, qy, qz, qw, tx, ty, tz = values
         norm_error = abs(qw * qw + qx * qx + qy * qy + qz * qz - 1.0)
         if child == parent or not child or not parent or not norm_error < _TOLERANCE:
-            return self._reject(parent, child, values, authority)
+            return reject(parent, child, values, authority)
         if tx != tx or ty != ty or tz != tz:  # NaN rotations already fail the norm test
-            return self._reject(parent, child, values, authority)
+            return reject(parent, child, values, authority)
         fire: list[tuple[TransformableCallback, int, str, str, int, bool]] | None = None
         with self._lock:
             ids = self._ids
@@ -115,6 +116,7 @@ class BufferCore(TreeWalker):
                 ok = False
             else:
                 ok = True
+                _fk.extend(self._records, self._caches, cid)
                 self._authority[cid] = authority
                 if self._requests:
                     fire = self._test_requests()
@@ -137,43 +139,8 @@ class BufferCore(TreeWalker):
         self._ids[name] = fid
         self._names.append(name)
         self._caches.append(None)
+        self._records.append(None)
         return fid
-
-    def _reject(self, parent: str, child: str, values: tuple[float, ...], authority: str) -> bool:
-        qx, qy, qz, qw, tx, ty, tz = values
-        if child == parent:
-            _log.error(
-                'TF_SELF_TRANSFORM: Ignoring transform from authority "%s" with frame_id and  '
-                'child_frame_id "%s" because they are the same',
-                authority,
-                child,
-            )
-        if not child:
-            _log.error(
-                'TF_NO_CHILD_FRAME_ID: Ignoring transform from authority "%s" because child_frame_id'
-                " not set ",
-                authority,
-            )
-        if not parent:
-            _log.error(
-                'TF_NO_FRAME_ID: Ignoring transform with child_frame_id "%s"  from authority "%s" '
-                "because frame_id not set",
-                child,
-                authority,
-            )
-        if any(math.isnan(v) for v in values):
-            _log.error(
-                'TF_NAN_INPUT: Ignoring transform for child_frame_id "%s" from authority "%s" because'
-                " of a nan value in the transform (%f %f %f) (%f %f %f %f)",
-                child, authority, tx, ty, tz, qx, qy, qz, qw,
-            )  # fmt: skip
-        if not abs(qw * qw + qx * qx + qy * qy + qz * qz - 1.0) < _TOLERANCE:
-            _log.error(
-                'TF_DENORMALIZED_QUATERNION: Ignoring transform for child_frame_id "%s" from authority'
-                ' "%s" because of an invalid quaternion in the transform (%f %f %f %f)',
-                child, authority, qx, qy, qz, qw,
-            )  # fmt: skip
-        return False
 
     def clear(self) -> None:
         """Empty every dynamic cache; static values and frame names stay (tf2 clear)."""

@@ -7,19 +7,110 @@ Results are ``(code, payload)``: code 0 and the value, or an error code and tf2'
 
 from __future__ import annotations
 
+import math
+from bisect import bisect_right as _bisect
 from typing import Any
 
-from . import _frames_text
+from . import _fk, _frames_text
+from ._cache import PAIR
 from ._codes import CONNECTIVITY, LOOKUP, MAX_GRAPH_DEPTH, NO_ERROR
 from ._math import quat_multiply, quat_rotate
 
 __all__ = ["TreeWalker"]
+
+_PAIR = PAIR.unpack_from
+_sin = math.sin
+_STOP = 0  # reached ``end``, a frame without data, or (source pass only) a failing link
+_HIT = 1  # reached ``other``
+_FAIL = 2  # a link has no data at t (target pass: reported at once)
+_LOOP = 3
+
+
+def _up(caches: list[Any], frame: int, t: int, end: int, other: int) -> tuple:
+    """One half of walkToTopParent: compose links upwards from ``frame`` at time ``t``.
+
+    Stops at ``end`` or a frame without a cache (_STOP), at ``other`` (_HIT), when a link has no
+    data at ``t`` (_STOP with that cache as ``failed`` when ``end`` is 0, i.e. the source pass;
+    _FAIL otherwise), or after MAX_GRAPH_DEPTH links (_LOOP). Returns (kind, frame, last frame
+    composed, failed cache, qx, qy, qz, qw, tx, ty, tz) with tf2's TransformAccum arithmetic;
+    interpolation (tf2 TimeCache::interpolate) is inlined for the common case.
+    """
+    sx = sy = sz = 0.0
+    sw = 1.0
+    svx = svy = svz = 0.0
+    depth = 0
+    last = frame
+    while frame != end:
+        if frame == other:
+            return _HIT, frame, last, None, sx, sy, sz, sw, svx, svy, svz
+        cache = caches[frame]
+        if cache is None:
+            break
+        s = cache.latest
+        if s is None:
+            return (_STOP if not end else _FAIL), frame, last, cache, sx, sy, sz, sw, svx, svy, svz
+        stamp, parent, x, y, z, w, tx, ty, tz = s
+        if stamp != t and t and not cache.static:
+            s = None
+            if t < stamp:
+                stamps = cache.stamps
+                i = _bisect(stamps, t, cache.lo) - 1
+                if i >= cache.lo and stamps[i] != t:
+                    parents = cache.parents
+                    parent = parents[i]
+                    if parent == parents[i + 1]:
+                        s1 = stamps[i]
+                        r = (t - s1) / (stamps[i + 1] - s1)
+                        q = 1.0 - r
+                        x, y, z, w, ax, ay, az, th, k, x2, y2, z2, w2, bx, by, bz = _PAIR(cache.data, i * 72)
+                        if th:
+                            a = _sin(q * th) * k
+                            b = _sin(r * th) * k
+                            if th < 0.0:
+                                a = -a
+                            x = x * a + x2 * b
+                            y = y * a + y2 * b
+                            z = z * a + z2 * b
+                            w = w * a + w2 * b
+                        tx = q * ax + r * bx
+                        ty = q * ay + r * by
+                        tz = q * az + r * bz
+                        s = True
+            if s is None:
+                s = cache.sample_at(t)
+                if s is None:
+                    return (_STOP if not end else _FAIL), frame, last, cache, sx, sy, sz, sw, svx, svy, svz
+                _, parent, x, y, z, w, tx, ty, tz = s
+        if depth:
+            rx = w * svx + y * svz - z * svy
+            ry = w * svy + z * svx - x * svz
+            rz = w * svz + x * svy - y * svx
+            rw = -x * svx - y * svy - z * svz
+            svx = -rw * x + rx * w - ry * z + rz * y + tx
+            svy = -rw * y + ry * w - rz * x + rx * z + ty
+            svz = -rw * z + rz * w - rx * y + ry * x + tz
+            nx = w * sx + x * sw + y * sz - z * sy
+            ny = w * sy + y * sw + z * sx - x * sz
+            nz = w * sz + z * sw + x * sy - y * sx
+            sw = w * sw - x * sx - y * sy - z * sz
+            sx = nx
+            sy = ny
+            sz = nz
+        else:
+            sx, sy, sz, sw, svx, svy, svz = x, y, z, w, tx, ty, tz
+        last = frame
+        frame = parent
+        depth += 1
+        if depth > MAX_GRAPH_DEPTH:
+            return _LOOP, frame, last, None, sx, sy, sz, sw, svx, svy, svz
+    return _STOP, frame, last, None, sx, sy, sz, sw, svx, svy, svz
 
 
 class TreeWalker:
     """Walks from frames to their roots, accumulating transforms exactly as tf2 does."""
 
     _caches: list[Any]
+    _records: list[Any]
     _names: list[str]
 
     def _loop_error(self) -> tuple[int, str]:
@@ -104,6 +195,9 @@ class TreeWalker:
         if source_id == target_id:
             return NO_ERROR, (t, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
         if not t:
+            found = _fk.lookup_latest(self._records, self._caches, target_id, source_id)
+            if found is not None:
+                return NO_ERROR, found
             found = self._walk_latest(target_id, source_id)
             if found is not None:
                 return found
@@ -111,90 +205,28 @@ class TreeWalker:
             if code:
                 return code, t
         caches = self._caches
-        # ---- source -> root
-        sx = sy = sz = 0.0
-        sw = 1.0
-        svx = svy = svz = 0.0
-        frame = source_id
-        top = frame
-        depth = 0
-        failed: Any = None
-        while frame:
-            if frame == target_id:  # target is an ancestor of the source
-                return NO_ERROR, (t, sx, sy, sz, sw, svx, svy, svz)
-            cache = caches[frame]
-            if cache is None:
-                top = frame
-                break
-            s = cache.latest
-            if s is None or (s[0] != t and not cache.static):
-                s = cache.sample_at(t)
-                if s is None:
-                    top = frame
-                    failed = cache
-                    break
-            _, parent, x, y, z, w, tx, ty, tz = s
-            if depth:
-                rx = w * svx + y * svz - z * svy
-                ry = w * svy + z * svx - x * svz
-                rz = w * svz + x * svy - y * svx
-                rw = -x * svx - y * svy - z * svz
-                svx = -rw * x + rx * w - ry * z + rz * y + tx
-                svy = -rw * y + ry * w - rz * x + rx * z + ty
-                svz = -rw * z + rz * w - rx * y + ry * x + tz
-                sx, sy, sz, sw = (
-                    w * sx + x * sw + y * sz - z * sy,
-                    w * sy + y * sw + z * sx - x * sz,
-                    w * sz + z * sw + x * sy - y * sx,
-                    w * sw - x * sx - y * sy - z * sz,
-                )
-            else:
-                sx, sy, sz, sw, svx, svy, svz = x, y, z, w, tx, ty, tz
-            top = frame
-            frame = parent
-            depth += 1
-            if depth > MAX_GRAPH_DEPTH:
-                return self._loop_error()
-        # ---- target -> top of the source chain
-        gx = gy = gz = 0.0
-        gw = 1.0
-        gvx = gvy = gvz = 0.0
-        frame = target_id
-        depth = 0
-        while frame != top:
-            if frame == source_id:  # source is an ancestor of the target
-                ix, iy, iz = quat_rotate(-gx, -gy, -gz, gw, -gvx, -gvy, -gvz)
-                return NO_ERROR, (t, -gx, -gy, -gz, gw, ix, iy, iz)
-            cache = caches[frame]
-            if cache is None:
-                break
-            s = cache.latest
-            if s is None or (s[0] != t and not cache.static):
-                s = cache.sample_at(t)
-                if s is None:
-                    code, text = cache.error_at(t)
-                    return code, text + self._suffix(source_id, target_id)
-            _, parent, x, y, z, w, tx, ty, tz = s
-            if depth:
-                rx = w * gvx + y * gvz - z * gvy
-                ry = w * gvy + z * gvx - x * gvz
-                rz = w * gvz + x * gvy - y * gvx
-                rw = -x * gvx - y * gvy - z * gvz
-                gvx = -rw * x + rx * w - ry * z + rz * y + tx
-                gvy = -rw * y + ry * w - rz * x + rx * z + ty
-                gvz = -rw * z + rz * w - rx * y + ry * x + tz
-                gx, gy, gz, gw = (
-                    w * gx + x * gw + y * gz - z * gy,
-                    w * gy + y * gw + z * gx - x * gz,
-                    w * gz + z * gw + x * gy - y * gx,
-                    w * gw - x * gx - y * gy - z * gz,
-                )
-            else:
-                gx, gy, gz, gw, gvx, gvy, gvz = x, y, z, w, tx, ty, tz
-            frame = parent
-            depth += 1
-            if depth > MAX_GRAPH_DEPTH:
-                return self._loop_error()
+        # ---- source -> root (stops early if the target is an ancestor of the source)
+        r = _up(caches, source_id, t, 0, target_id)
+        kind = r[0]
+        if kind == _HIT:
+            return NO_ERROR, (t, *r[4:])
+        if kind == _LOOP:
+            return self._loop_error()
+        _, top, last, failed, sx, sy, sz, sw, svx, svy, svz = r
+        if not top:  # a link to "NO_PARENT" (id 0): tf2 stops at the last frame walked
+            top = last
+        # ---- target -> top of the source chain (stops early if the source is an ancestor)
+        r = _up(caches, target_id, t, top, source_id)
+        kind = r[0]
+        if kind == _LOOP:
+            return self._loop_error()
+        if kind == _FAIL:
+            code, text = r[3].error_at(t)
+            return code, text + self._suffix(source_id, target_id)
+        _, frame, _, _, gx, gy, gz, gw, gvx, gvy, gvz = r
+        if kind == _HIT:
+            ix, iy, iz = quat_rotate(-gx, -gy, -gz, gw, -gvx, -gvy, -gvz)
+            return NO_ERROR, (t, -gx, -gy, -gz, gw, ix, iy, iz)
         if frame != top:
             if failed is not None:
                 code, text = failed.error_at(t)

@@ -16,101 +16,78 @@ invalid UTF-8, a negative stamp or ``nanosec`` >= 1e9 raises :class:`CdrError` (
 
 from __future__ import annotations
 
+import itertools
 import struct
 from collections.abc import Callable
 from typing import Any
 
-from ..messages import Header, JointState, Quaternion, TFMessage, Time, Transform, TransformStamped, Vector3
+from ..messages import Header, JointState, TFMessage
+from ._build import transform_stampeds
+from ._cdr_base import (
+    CDR_HEADER,
+    NS,
+    SEVEN_DOUBLES,
+    STAMP,
+    U32,
+    CdrError,
+    check_end,
+    check_header,
+    make_time,
+    padding,
+    read_string,
+    remember,
+    utf8,
+)
 
 __all__ = [
     "CDR_HEADER",
     "CdrError",
+    "check",
     "decode",
     "decode_joint_state",
     "decode_tf_message",
+    "decoder",
     "encode",
     "encode_joint_state",
     "encode_tf_message",
+    "encoder",
 ]
-
-CDR_HEADER = b"\x00\x01\x00\x00"
-_NS = 1_000_000_000
-_MAX_CACHED_LAYOUTS = 256
-_U32 = struct.Struct("<I")
-_STAMP = struct.Struct("<iI")
-_SEVEN_DOUBLES = struct.Struct("<7d")
-
-
-class CdrError(ValueError):
-    """A payload is not a valid CDR encoding of the expected message (or a message cannot be encoded)."""
-
-
-def _pad(offset: int, align: int) -> int:
-    """Bytes of padding needed at data offset ``offset`` (relative to the end of the header)."""
-    return -offset % align
-
-
-def _utf8(text: str, what: str) -> bytes:
-    try:
-        return text.encode("utf-8")
-    except UnicodeEncodeError as exc:
-        raise CdrError(f"{what} {text!r} cannot be encoded as UTF-8: {exc.reason}") from None
-
-
-def _remember(cache: dict[Any, Any], key: Any, value: Any) -> Any:
-    if len(cache) >= _MAX_CACHED_LAYOUTS:
-        cache.clear()
-    cache[key] = value
-    return value
-
 
 # --------------------------------------------------------------------------------------- encoding
 
 
 class _TfLayout:
-    """A compiled struct for one sequence of (frame_id, child_frame_id) pairs."""
+    """The compiled struct of a TFMessage whose transforms have the given frame names.
 
-    __slots__ = (
-        "child_bytes",
-        "child_ids",
-        "child_lengths",
-        "frame_bytes",
-        "frame_ids",
-        "frame_lengths",
-        "names",
-        "struct",
-    )
+    Per transform the struct is ``iI<K>s7d``: the stamp, one constant K-byte field (``blob``) that
+    holds both strings (length, UTF-8, NUL) with the alignment padding around them, then the seven
+    doubles. Encoding slots the blobs into the argument list; decoding compares them.
+    """
 
-    def __init__(self, pairs: tuple[tuple[str, str], ...]) -> None:
+    __slots__ = ("blobs", "child_ids", "frame_ids", "struct")
+
+    def __init__(self, names: tuple[str, ...]) -> None:
+        """``names``: frame_id, child_frame_id, frame_id, child_frame_id... (flat)."""
         fmt = ["<4sI"]
-        offset = 4
-        names: list[tuple[int, bytes, int, bytes]] = []
-        for frame_id, child in pairs:
-            frame_b = _utf8(frame_id, "frame_id")
-            child_b = _utf8(child, "child_frame_id")
-            # header.stamp (int32, uint32) and header.frame_id: offset is 4-aligned here.
-            pad = _pad(offset, 4)
-            fmt.append(f"{pad}xiII{len(frame_b) + 1}s")
-            offset += pad + 12 + len(frame_b) + 1
-            pad = _pad(offset, 4)
-            fmt.append(f"{pad}xI{len(child_b) + 1}s")
-            offset += pad + 4 + len(child_b) + 1
-            pad = _pad(offset, 8)
-            fmt.append(f"{pad}x7d")
-            offset += pad + 56
-            names.append((len(frame_b) + 1, frame_b, len(child_b) + 1, child_b))
+        blobs = []
+        offset = 4  # data offset of the first stamp (after the uint32 count); 8-aligned after each 7d
+        for frame_id, child in zip(names[::2], names[1::2], strict=True):
+            frame_b = utf8(frame_id, "frame_id") + b"\x00"
+            child_b = utf8(child, "child_frame_id") + b"\x00"
+            blob = U32.pack(len(frame_b)) + frame_b
+            blob += bytes(padding(offset + 8 + len(blob), 4))
+            blob += U32.pack(len(child_b)) + child_b
+            blob += bytes(padding(offset + 8 + len(blob), 8))
+            fmt.append(f"iI{len(blob)}s7d")
+            blobs.append(blob)
+            offset += 8 + len(blob) + 56
         self.struct = struct.Struct("".join(fmt))
-        self.names = tuple(names)
-        # What an unpack of an encoded message yields for the string fields (NUL included).
-        self.frame_ids = tuple(frame_id for frame_id, _ in pairs)
-        self.child_ids = tuple(child for _, child in pairs)
-        self.frame_lengths = tuple(n[0] for n in names)
-        self.frame_bytes = tuple(n[1] + b"\x00" for n in names)
-        self.child_lengths = tuple(n[2] for n in names)
-        self.child_bytes = tuple(n[3] + b"\x00" for n in names)
+        self.blobs = tuple(blobs)
+        self.frame_ids = names[::2]
+        self.child_ids = names[1::2]
 
 
-_tf_layouts: dict[tuple[tuple[str, str], ...], _TfLayout] = {}
+_tf_layouts: dict[tuple[str, ...], _TfLayout] = {}
 
 
 def encode_tf_message(msg: TFMessage) -> bytes:
@@ -120,18 +97,23 @@ def encode_tf_message(msg: TFMessage) -> bytes:
         CdrError: A value does not fit its CDR type (e.g. ``sec`` beyond int32).
     """
     transforms = msg.transforms
-    key = tuple([(t.header.frame_id, t.child_frame_id) for t in transforms])
-    layout = _tf_layouts.get(key)
-    if layout is None:
-        layout = _remember(_tf_layouts, key, _TfLayout(key))
     args: list[Any] = [CDR_HEADER, len(transforms)]
-    extend = args.extend
-    for t, (flen, fbytes, clen, cbytes) in zip(transforms, layout.names, strict=False):
-        stamp = t.header.stamp
+    names: list[str] = []
+    add_names = names.extend
+    add = args.extend
+    for t in transforms:
+        h = t.header
+        stamp = h.stamp
         tr = t.transform
         v = tr.translation
         q = tr.rotation
-        extend((stamp.sec, stamp.nanosec, flen, fbytes, clen, cbytes, v.x, v.y, v.z, q.x, q.y, q.z, q.w))
+        add_names((h.frame_id, t.child_frame_id))
+        add((stamp.sec, stamp.nanosec, None, v.x, v.y, v.z, q.x, q.y, q.z, q.w))
+    key = tuple(names)
+    layout = _tf_layouts.get(key)
+    if layout is None:
+        layout = remember(_tf_layouts, key, _TfLayout(key))
+    args[4::10] = layout.blobs  # the None placeholders
     try:
         return layout.struct.pack(*args)
     except struct.error as exc:
@@ -144,26 +126,26 @@ _js_layouts: dict[tuple[Any, ...], tuple[struct.Struct, tuple[Any, ...]]] = {}
 def _js_layout(
     frame_id: str, names: tuple[str, ...], n_p: int, n_v: int, n_e: int
 ) -> tuple[struct.Struct, tuple]:
-    frame_b = _utf8(frame_id, "frame_id")
+    frame_b = utf8(frame_id, "frame_id")
     fmt = [f"<4siII{len(frame_b) + 1}s"]
     consts: list[Any] = [len(frame_b) + 1, frame_b]
     offset = 12 + len(frame_b) + 1
-    pad = _pad(offset, 4)
+    pad = padding(offset, 4)
     fmt.append(f"{pad}xI")
     consts.append(len(names))
     offset += pad + 4
     for name in names:
-        name_b = _utf8(name, "joint name")
-        pad = _pad(offset, 4)
+        name_b = utf8(name, "joint name")
+        pad = padding(offset, 4)
         fmt.append(f"{pad}xI{len(name_b) + 1}s")
         consts.extend((len(name_b) + 1, name_b))
         offset += pad + 4 + len(name_b) + 1
     for count in (n_p, n_v, n_e):
-        pad = _pad(offset, 4)
+        pad = padding(offset, 4)
         fmt.append(f"{pad}xI")
         offset += pad + 4
         if count:
-            pad = _pad(offset, 8)
+            pad = padding(offset, 8)
             fmt.append(f"{pad}x{count}d")
             offset += pad + 8 * count
     return struct.Struct("".join(fmt)), tuple(consts)
@@ -180,7 +162,7 @@ def encode_joint_state(msg: JointState) -> bytes:
     key = (header.frame_id, msg.name, len(p), len(v), len(e))
     layout = _js_layouts.get(key)
     if layout is None:
-        layout = _remember(_js_layouts, key, _js_layout(*key))
+        layout = remember(_js_layouts, key, _js_layout(*key))
     packer, consts = layout
     stamp = header.stamp
     try:
@@ -192,67 +174,33 @@ def encode_joint_state(msg: JointState) -> bytes:
 # --------------------------------------------------------------------------------------- decoding
 
 
-def _check_header(data: bytes, what: str) -> None:
-    if len(data) < 8:
-        raise CdrError(f"{what}: payload of {len(data)} bytes is too short")
-    if data[:2] != b"\x00\x01":
-        raise CdrError(f"{what}: encapsulation {data[:2].hex()} is not CDR little-endian (0001)")
-
-
-def _string(data: bytes, offset: int, what: str) -> tuple[str, int]:
-    """Read a CDR string whose length field starts at absolute ``offset`` (already aligned)."""
-    (length,) = _U32.unpack_from(data, offset)
-    start = offset + 4
-    end = start + length
-    if length == 0 or end > len(data) or data[end - 1] != 0:
-        raise CdrError(f"{what}: malformed string at byte {offset}")
-    try:
-        return data[start : end - 1].decode("utf-8"), end
-    except UnicodeDecodeError:
-        raise CdrError(f"{what}: string at byte {offset} is not valid UTF-8") from None
-
-
-def _time(sec: int, nanosec: int, what: str) -> Time:
-    if sec < 0 or nanosec >= _NS:
-        raise CdrError(f"{what}: stamp sec={sec} nanosec={nanosec} is not a valid time")
-    return Time(sec, nanosec)
-
-
-def _check_end(data: bytes, offset: int, what: str) -> None:
-    rest = data[offset:]
-    if len(rest) > 7 or rest.strip(b"\x00"):
-        raise CdrError(f"{what}: {len(rest)} unexpected bytes after the message")
-
-
-def _tf_from_values(values: tuple[Any, ...], layout: _TfLayout, what: str) -> TFMessage | None:
-    """Build a TFMessage from one ``layout.struct.unpack`` result, or None if the names differ."""
-    if (
-        values[0] != CDR_HEADER
-        or values[4::13] != layout.frame_lengths
-        or values[5::13] != layout.frame_bytes
-        or values[6::13] != layout.child_lengths
-        or values[7::13] != layout.child_bytes
-    ):
+def _tf_values(data: bytes, layout: _TfLayout) -> tuple[Any, ...] | None:
+    """One ``struct`` unpack of ``data`` laid out as ``layout``; None if its names differ."""
+    values = layout.struct.unpack(data)
+    if values[0] != CDR_HEADER or values[4::10] != layout.blobs:
         return None
-    secs = values[2::13]
-    nanosecs = values[3::13]
-    if not secs:
+    return values
+
+
+def _tf_stamps(secs: tuple[int, ...], nanosecs: tuple[int, ...], what: str) -> Any:
+    """The Time of each transform: one shared object when they are all equal (the usual case)."""
+    n = len(secs)
+    if secs.count(secs[0]) == n and nanosecs.count(nanosecs[0]) == n:
+        return itertools.repeat(make_time(secs[0], nanosecs[0], what), n)
+    return [make_time(s, ns, what) for s, ns in zip(secs, nanosecs, strict=True)]
+
+
+def _tf_from_values(values: tuple[Any, ...], layout: _TfLayout, what: str) -> TFMessage:
+    if not values[1]:
         return TFMessage(())
-    if secs.count(secs[0]) == len(secs) and nanosecs.count(nanosecs[0]) == len(secs):
-        stamps = (_time(secs[0], nanosecs[0], what),) * len(secs)
-    else:
-        stamps = tuple(_time(s, n, what) for s, n in zip(secs, nanosecs, strict=False))
-    out = []
-    i = 8
-    for stamp, frame_id, child in zip(stamps, layout.frame_ids, layout.child_ids, strict=False):
-        x, y, z, qx, qy, qz, qw = values[i : i + 7]
-        out.append(
-            TransformStamped(
-                Header(stamp, frame_id), child, Transform(Vector3(x, y, z), Quaternion(qx, qy, qz, qw))
-            )
+    return TFMessage(
+        transform_stampeds(
+            _tf_stamps(values[2::10], values[3::10], what),
+            layout.frame_ids,
+            layout.child_ids,
+            *(values[i::10] for i in range(5, 12)),
         )
-        i += 13
-    return TFMessage(tuple(out))
+    )
 
 
 _tf_decode_layouts: dict[tuple[int, int], _TfLayout] = {}
@@ -260,24 +208,55 @@ _tf_decode_layouts: dict[tuple[int, int], _TfLayout] = {}
 
 def _decode_tf_sequential(data: bytes, count: int, what: str) -> tuple[TFMessage, int]:
     offset = 8
-    out = []
+    secs: list[int] = []
+    nanosecs: list[int] = []
+    names: list[str] = []
+    doubles: list[tuple[float, ...]] = []
     for _ in range(count):
         offset += -(offset - 4) % 4
-        sec, nanosec = _STAMP.unpack_from(data, offset)
-        frame_id, offset = _string(data, offset + 8, what)
+        sec, nanosec = STAMP.unpack_from(data, offset)
+        frame_id, offset = read_string(data, offset + 8, what)
         offset += -(offset - 4) % 4
-        child, offset = _string(data, offset, what)
+        child, offset = read_string(data, offset, what)
         offset += -(offset - 4) % 8
-        x, y, z, qx, qy, qz, qw = _SEVEN_DOUBLES.unpack_from(data, offset)
+        doubles.append(SEVEN_DOUBLES.unpack_from(data, offset))
         offset += 56
-        out.append(
-            TransformStamped(
-                Header(_time(sec, nanosec, what), frame_id),
-                child,
-                Transform(Vector3(x, y, z), Quaternion(qx, qy, qz, qw)),
-            )
-        )
-    return TFMessage(tuple(out)), offset
+        secs.append(sec)
+        nanosecs.append(nanosec)
+        names += (frame_id, child)
+    if not count:
+        return TFMessage(()), offset
+    stamps = _tf_stamps(tuple(secs), tuple(nanosecs), what)
+    columns = zip(*doubles, strict=True)
+    return TFMessage(transform_stampeds(stamps, names[::2], names[1::2], *columns)), offset
+
+
+def _decode_tf(data: bytes, build: bool) -> TFMessage | None:
+    """Parse (``build``) or only validate a TFMessage; see :func:`decode_tf_message`."""
+    what = "TFMessage"
+    check_header(data, what)
+    (count,) = U32.unpack_from(data, 4)
+    if count * 76 > len(data):  # 76 bytes: the smallest TransformStamped
+        raise CdrError(f"{what}: {count} transforms cannot fit in {len(data)} bytes")
+    key = (len(data), count)
+    layout = _tf_decode_layouts.get(key)
+    if layout is not None:
+        values = _tf_values(data, layout)
+        if values is not None:
+            if build:
+                return _tf_from_values(values, layout, what)
+            if count and (min(values[2::10]) < 0 or max(values[3::10]) >= NS):
+                _tf_stamps(values[2::10], values[3::10], what)  # raises with the details
+            return None
+    try:
+        message, offset = _decode_tf_sequential(data, count, what)
+    except struct.error:
+        raise CdrError(f"{what}: payload of {len(data)} bytes is truncated") from None
+    check_end(data, offset, what)
+    if offset == len(data):
+        names = tuple(name for t in message.transforms for name in (t.header.frame_id, t.child_frame_id))
+        remember(_tf_decode_layouts, key, _TfLayout(names))
+    return message
 
 
 def decode_tf_message(data: bytes) -> TFMessage:
@@ -289,30 +268,11 @@ def decode_tf_message(data: bytes) -> TFMessage:
     Raises:
         CdrError: The payload is not a valid TFMessage.
     """
-    what = "TFMessage"
-    _check_header(data, what)
-    (count,) = _U32.unpack_from(data, 4)
-    if count * 76 > len(data):  # 76 bytes: the smallest TransformStamped
-        raise CdrError(f"{what}: {count} transforms cannot fit in {len(data)} bytes")
-    key = (len(data), count)
-    layout = _tf_decode_layouts.get(key)
-    if layout is not None:
-        message = _tf_from_values(layout.struct.unpack(data), layout, what)
-        if message is not None:
-            return message
-    try:
-        message, offset = _decode_tf_sequential(data, count, what)
-    except struct.error:
-        raise CdrError(f"{what}: payload of {len(data)} bytes is truncated") from None
-    _check_end(data, offset, what)
-    if offset == len(data):
-        pairs = tuple((t.header.frame_id, t.child_frame_id) for t in message.transforms)
-        _remember(_tf_decode_layouts, key, _TfLayout(pairs))
-    return message
+    return _decode_tf(data, True)  # type: ignore[return-value]
 
 
 def _doubles(data: bytes, offset: int, what: str) -> tuple[tuple[float, ...], int]:
-    (count,) = _U32.unpack_from(data, offset)
+    (count,) = U32.unpack_from(data, offset)
     offset += 4
     if not count:
         return (), offset
@@ -329,19 +289,19 @@ def decode_joint_state(data: bytes) -> JointState:
         CdrError: The payload is not a valid JointState.
     """
     what = "JointState"
-    _check_header(data, what)
+    check_header(data, what)
     try:
         sec, nanosec = struct.unpack_from("<iI", data, 4)
-        frame_id, offset = _string(data, 12, what)
+        frame_id, offset = read_string(data, 12, what)
         offset += -(offset - 4) % 4
-        (count,) = _U32.unpack_from(data, offset)
+        (count,) = U32.unpack_from(data, offset)
         offset += 4
         if count * 5 > len(data):
             raise CdrError(f"{what}: {count} names cannot fit in {len(data)} bytes")
         names = []
         for _ in range(count):
             offset += -(offset - 4) % 4
-            name, offset = _string(data, offset, what)
+            name, offset = read_string(data, offset, what)
             names.append(name)
         arrays = []
         for _ in range(3):
@@ -350,12 +310,16 @@ def decode_joint_state(data: bytes) -> JointState:
             arrays.append(values)
     except struct.error:
         raise CdrError(f"{what}: payload of {len(data)} bytes is truncated") from None
-    _check_end(data, offset, what)
-    return JointState(Header(_time(sec, nanosec, what), frame_id), tuple(names), *arrays)
+    check_end(data, offset, what)
+    return JointState(Header(make_time(sec, nanosec, what), frame_id), tuple(names), *arrays)
 
 
 _ENCODERS: dict[type, Callable[[Any], bytes]] = {TFMessage: encode_tf_message, JointState: encode_joint_state}
 _DECODERS: dict[type, Callable[[bytes], Any]] = {TFMessage: decode_tf_message, JointState: decode_joint_state}
+_CHECKERS: dict[type, Callable[[bytes], Any]] = {
+    TFMessage: lambda data: _decode_tf(data, False),
+    JointState: decode_joint_state,
+}
 
 
 def encode(msg: TFMessage | JointState) -> bytes:
@@ -370,13 +334,44 @@ def encode(msg: TFMessage | JointState) -> bytes:
     return encoder(msg)
 
 
+def encoder(msg_type: type) -> Callable[[Any], bytes]:
+    """The function serializing ``msg_type`` messages (what :func:`encode` dispatches to).
+
+    Raises:
+        CdrError: No codec for ``msg_type``.
+    """
+    found = _ENCODERS.get(msg_type)
+    if found is None:
+        raise CdrError(f"no CDR codec for {getattr(msg_type, '__name__', msg_type)}")
+    return found
+
+
+def decoder(msg_type: type) -> Callable[[bytes], Any]:
+    """The function parsing ``bytes`` as ``msg_type`` (what :func:`decode` dispatches to).
+
+    Raises:
+        CdrError: No codec for ``msg_type``.
+    """
+    found = _DECODERS.get(msg_type)
+    if found is None:
+        raise CdrError(f"no CDR codec for {getattr(msg_type, '__name__', msg_type)}")
+    return found
+
+
 def decode(msg_type: type, data: bytes) -> Any:
     """Parse CDR bytes as ``msg_type`` (TFMessage or JointState).
 
     Raises:
         CdrError: No codec for ``msg_type``, or the payload is not a valid message of that type.
     """
-    decoder = _DECODERS.get(msg_type)
-    if decoder is None:
-        raise CdrError(f"no CDR codec for {getattr(msg_type, '__name__', msg_type)}")
-    return decoder(bytes(data))
+    return decoder(msg_type)(bytes(data))
+
+
+def check(msg_type: type, data: bytes) -> None:
+    """Validate CDR bytes as ``msg_type`` like :func:`decode`, without building the message if possible.
+
+    Raises:
+        CdrError: No codec for ``msg_type``, or the payload is not a valid message of that type.
+    """
+    decoder(msg_type)
+    _CHECKERS[msg_type](bytes(data))

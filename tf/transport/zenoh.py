@@ -44,6 +44,7 @@ __all__ = ["MessageInfo", "ZenohPublisher", "ZenohSubscription", "ZenohTransport
 M = TypeVar("M")
 _log = logging.getLogger("tf.transport")
 _DEPTH = {"/tf": 100, "/tf_static": 1, "/joint_states": 10}
+_PUT = zenoh.SampleKind.PUT
 
 
 @dataclass(frozen=True)
@@ -92,6 +93,7 @@ class ZenohPublisher(Publisher[M]):
         self.gid = _keys.gid_of(token_key)
         self._token = session.liveliness().declare_token(token_key)
         self._sequence = itertools.count(1)
+        self._encode = _cdr.encoder(msg_type)
         self._matching = threading.Condition()
         self._matched = False
         self._listener: Any = None
@@ -104,7 +106,10 @@ class ZenohPublisher(Publisher[M]):
             TypeError: ``msg`` is not of this publisher's type.
             tf.transport._cdr.CdrError: A value does not fit its CDR type.
         """
-        if msg.__class__ is not self.msg_type and not isinstance(msg, self.msg_type):
+        if msg.__class__ is self.msg_type:
+            self.publish_cdr(self._encode(msg))
+            return
+        if not isinstance(msg, self.msg_type):
             raise TypeError(
                 f"publisher on {self.topic} sends {self.msg_type.__name__}, got {type(msg).__name__}"
             )
@@ -176,7 +181,7 @@ class ZenohSubscription(Subscription):
         self._token = bus._session.liveliness().declare_token(bus._entity_token("MS", topic, info, qos))
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
-        if self.closed or sample.kind != zenoh.SampleKind.PUT:
+        if self.closed or sample.kind != _PUT:
             return
         try:
             self._deliver(sample.payload.to_bytes(), sample)
@@ -280,10 +285,11 @@ class ZenohTransport(Transport):
                 transport is closed.
         """
         self._check_open()
-        decode = _cdr.decode
+        _keys.type_info(msg_type)  # ValueError first for a type that cannot travel
+        decode = _cdr.decoder(msg_type)
 
         def deliver(payload: bytes, _sample: zenoh.Sample) -> None:
-            callback(decode(msg_type, payload))
+            callback(decode(payload))
 
         return self._keep(ZenohSubscription(self, topic, msg_type, deliver))
 
@@ -307,10 +313,11 @@ class ZenohTransport(Transport):
     ) -> ZenohSubscription:
         """Like :meth:`subscribe`, with each sample's :class:`MessageInfo` as second argument."""
         self._check_open()
-        decode = _cdr.decode
+        _keys.type_info(msg_type)  # ValueError first for a type that cannot travel
+        decode = _cdr.decoder(msg_type)
 
         def deliver(payload: bytes, sample: zenoh.Sample) -> None:
-            callback(decode(msg_type, payload), _info(sample))
+            callback(decode(payload), _info(sample))
 
         return self._keep(ZenohSubscription(self, topic, msg_type, deliver))
 
@@ -319,10 +326,10 @@ class ZenohTransport(Transport):
     ) -> ZenohSubscription:
         """Receive the CDR payloads of ``topic`` undecoded (recorders); bad ones are still dropped."""
         self._check_open()
-        decode = _cdr.decode
+        check = _cdr.check
 
         def deliver(payload: bytes, sample: zenoh.Sample) -> None:
-            decode(msg_type, payload)  # validate: never record garbage
+            check(msg_type, payload)  # validate: never record garbage
             callback(payload, _info(sample))
 
         return self._keep(ZenohSubscription(self, topic, msg_type, deliver))

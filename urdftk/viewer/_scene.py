@@ -26,6 +26,7 @@ __all__ = ["ROOT_NODE", "DisplayOptions", "Scene", "node_segment"]
 
 ROOT_NODE = "/tf"
 _EPS = 1e-9
+_FEW_EDGES = 8  # above this, one batched lookup per tree beats one per parent
 _ARROW_RGB = (0.95, 0.75, 0.1)
 
 
@@ -307,6 +308,8 @@ class Scene:
                 self._parents.get(c.lstrip("/"), "") == p.lstrip("/") for c, p in edges.items()
             )
             if known and self._fixed is not None:
+                if len(edges) > _FEW_EDGES:  # type: ignore[arg-type]
+                    return self._apply(np.arange(len(self._order)), self._compute_local(buffer), False), False
                 rows = self._edge_rows(buffer, edges)  # type: ignore[arg-type]
                 return self._apply(rows[0], rows[1], False), False
             frames = buffer.frames()  # type: ignore[attr-defined]

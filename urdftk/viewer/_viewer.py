@@ -101,7 +101,6 @@ class Viewer:
         ]
         self._state_pub: Any = None
         self._js_pub: Any = None
-        self._js_topic: Any = None
         if listen:
             self._subs.append(self.transport.subscribe(TOPIC_JOINT_STATES, tf.JointState, self._on_joint_state))
         else:
@@ -230,8 +229,6 @@ class Viewer:
             self._state_pub.close()
         if self._js_pub is not None:
             self._js_pub.close()
-        if self._js_topic is not None:
-            self._js_topic.close()
         if self._own_transport:
             self.transport.close()
         self._backend.close()
@@ -254,8 +251,6 @@ class Viewer:
         self._js_pub = JointStatePublisher(robot, self.transport, rate=self._rate or 10.0)
         if self._rate:
             self._js_pub.start()
-        if self._js_topic is None:
-            self._js_topic = self.transport.publisher(TOPIC_JOINT_STATES, tf.JointState)
         # publish_frequency=0: every slider step goes out (a rate cap would swallow the last one)
         return RobotStatePublisher(robot, self.transport, publish_frequency=0)
 
@@ -300,19 +295,16 @@ class Viewer:
         self._publish(moved)
 
     def _publish(self, names: Sequence[str] | None = None) -> None:
-        """Publish /joint_states: every joint, or only ``names`` (what moved) on slider updates."""
-        import tf
+        """Publish /joint_states with every joint (as joint_state_publisher does).
 
+        Publishing only the joints that moved would be cheaper, but tf2 looks a chain up at the
+        latest time *all* its links share, so stale joints would pin every lookup to the past.
+        """
+        if names is not None and not names:
+            return
         with self._lock:
-            values = self.joint_values()
-            self._js_pub.set_positions(values)
-            if names is None:
-                self._js_pub.publish()
-                return
-            if not names:
-                return
-            msg = tf.JointState(tf.Header(tf.Time.now(), ""), names, [values[n] for n in names])
-        self._js_topic.publish(msg)
+            self._js_pub.set_positions(self.joint_values())
+            self._js_pub.publish()
 
     def _on_joint_state(self, msg: Any) -> None:
         known = set(self._robot.joint_names)

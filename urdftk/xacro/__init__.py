@@ -15,11 +15,12 @@ Expressions run in a sandbox (see :mod:`urdftk.xacro._eval`). Errors are
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable, Mapping
-from typing import TYPE_CHECKING, Any, TextIO
 
+TYPE_CHECKING = False
 if TYPE_CHECKING:
+    from collections.abc import Iterable, Mapping
     from pathlib import Path
+    from typing import Any, TextIO
 
 __all__ = ["Result", "expand", "process_file", "process_string"]
 

@@ -7,13 +7,16 @@ import sys
 from functools import lru_cache
 from keyword import iskeyword
 from pathlib import Path
-from typing import Any, TextIO
 
 from urdftk.errors import PackageNotFound, XacroError, close_names
 from urdftk.xacro._eval import REFUSED_NAMES, SandboxError, compile_expr
 from urdftk.xacro._lexer import EXPR, SUBST, TEXT, tokenize
 from urdftk.xacro._scope import Scope
 from urdftk.xacro._subst import EvalScope, resolve
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any, TextIO
 
 __all__ = ["MAX_TEXT", "Context", "IncludeIOError", "XacroPackageNotFound"]
 

@@ -1,6 +1,6 @@
 """The expression sandbox: ``${...}``, ``$(eval ...)`` and yaml unit tags are evaluated here.
 
-Expressions are parsed with :mod:`ast` and checked against a whitelist before they are compiled:
+Expressions are parsed to a syntax tree and checked against a whitelist before they are compiled:
 
 * allowed: literals, arithmetic, comparisons, boolean and conditional expressions, indexing and
   slicing, comprehensions, lambdas, f-strings, calls;
@@ -20,12 +20,14 @@ an empty dict, so nothing outside the exposed symbols is reachable. Compiled cod
 from __future__ import annotations
 
 import _string
-import ast
 from functools import lru_cache
-from types import CodeType
-from typing import Any
 
 from urdftk.errors import XacroError
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from types import CodeType
+    from typing import Any
 
 __all__ = [
     "GETATTR",
@@ -70,50 +72,52 @@ REFUSED_NAMES = frozenset(
 )
 
 _MAX_POW_BITS = 1 << 16
+_ONLY_AST = 0x400  # ast.PyCF_ONLY_AST (the ast module itself is slow to import and not needed)
+
+_ALLOWED_NAMES = [
+    "Expression",
+    "BoolOp",
+    "BinOp",
+    "UnaryOp",
+    "Lambda",
+    "IfExp",
+    "Dict",
+    "Set",
+    "ListComp",
+    "SetComp",
+    "DictComp",
+    "GeneratorExp",
+    "Compare",
+    "Call",
+    "keyword",
+    "FormattedValue",
+    "JoinedStr",
+    "Constant",
+    "Attribute",
+    "Subscript",
+    "Starred",
+    "Name",
+    "List",
+    "Tuple",
+    "Slice",
+    "comprehension",
+    "arguments",
+    "arg",
+    "Load",
+    "Store",
+]
+
+# The tokens of expressions that need no rewriting: names not starting with '_', decimal numbers,
+# one-line strings without prefix or escapes, and the operators other than '.'.
+_SIMPLE_TOKEN = (
+    r"\s+|[A-Za-z][A-Za-z0-9_]*|\d+(?:\.\d*)?(?:[eE][+-]?\d+)?[jJ]?|\.\d+(?:[eE][+-]?\d+)?[jJ]?"
+    r"""|(?<![A-Za-z0-9_])(?:'[^'\n\r]*'|"[^"\n\r]*")|[-+*/%@&|^~<>=!()\[\]{},:]"""
+)
+_NOT_SIMPLE = frozenset({"yield", "await", "async"})
 
 
 class SandboxError(XacroError):
     """An expression tried to reach something the sandbox does not expose."""
-
-
-_ALLOWED = frozenset(
-    {
-        ast.Expression,
-        ast.BoolOp,
-        ast.BinOp,
-        ast.UnaryOp,
-        ast.Lambda,
-        ast.IfExp,
-        ast.Dict,
-        ast.Set,
-        ast.ListComp,
-        ast.SetComp,
-        ast.DictComp,
-        ast.GeneratorExp,
-        ast.Compare,
-        ast.Call,
-        ast.keyword,
-        ast.FormattedValue,
-        ast.JoinedStr,
-        ast.Constant,
-        ast.Attribute,
-        ast.Subscript,
-        ast.Starred,
-        ast.Name,
-        ast.List,
-        ast.Tuple,
-        ast.Slice,
-        ast.comprehension,
-        ast.arguments,
-        ast.arg,
-        ast.Load,
-        ast.Store,
-        ast.operator,
-        ast.unaryop,
-        ast.cmpop,
-        ast.boolop,
-    }
-)
 
 
 def _refuse(what: str) -> SandboxError:
@@ -125,46 +129,85 @@ def _check_name(name: str | None, kind: str) -> None:
         raise _refuse(f"{kind} '{name}' (names starting with '_' are not reachable)")
 
 
-class _Rewrite(ast.NodeTransformer):
-    """Validate every node; route attribute access, ``**`` and ``<<`` through checked helpers."""
+@lru_cache(maxsize=1)
+def _simple_tokens() -> Any:
+    import re
 
-    def generic_visit(self, node: ast.AST) -> ast.AST:
+    return re.compile(_SIMPLE_TOKEN).findall
+
+
+def is_simple(text: str) -> bool:
+    """Whether ``text`` surely has no attribute access, ``**``, ``<<``, f-string, or '_' name.
+
+    Such an expression compiles to exactly the code the checked rewrite would give, so it needs
+    no syntax tree. Whatever is doubtful answers False and takes the checked path.
+
+    Args:
+        text: Python expression source.
+    """
+    if not text.isascii() or "\\" in text or "**" in text or "<<" in text or ":=" in text:
+        return False
+    if "'''" in text or '"""' in text:
+        return False
+    tokens = _simple_tokens()(text)  # non-overlapping, left to right: a gap means an unknown character
+    if sum(map(len, tokens)) != len(text):
+        return False
+    return _NOT_SIMPLE.isdisjoint(tokens)
+
+
+class _Rewriter:
+    """Validate every node; route attribute access, ``**`` and ``<<`` through checked helpers.
+
+    Args:
+        A: The ``_ast`` module.
+    """
+
+    def __init__(self, A: Any) -> None:
+        self.A = A
+        self.allowed = frozenset(getattr(A, n) for n in _ALLOWED_NAMES)
+        self.ops = (A.operator, A.unaryop, A.cmpop, A.boolop)
+
+    def _call(self, helper: str, args: list, like: Any) -> Any:
+        A = self.A
+        call = A.Call(func=A.Name(id=helper, ctx=A.Load()), args=args, keywords=[])
+        for n in (call, call.func, *[a for a in args if not hasattr(a, "lineno")]):
+            n.lineno, n.col_offset = like.lineno, like.col_offset
+            n.end_lineno, n.end_col_offset = like.end_lineno, like.end_col_offset
+        return call
+
+    def visit(self, node: Any) -> Any:
+        """Check ``node`` and its children (in reading order); return its replacement."""
+        A = self.A
         cls = type(node)
-        if cls not in _ALLOWED and not isinstance(node, (ast.operator, ast.unaryop, ast.cmpop, ast.boolop)):
-            raise _refuse(f"{cls.__name__} expressions are not allowed")
-        return super().generic_visit(node)
-
-    def visit_Name(self, node: ast.Name) -> ast.AST:
-        _check_name(node.id, "name")
-        return node
-
-    def visit_arg(self, node: ast.arg) -> ast.AST:
-        _check_name(node.arg, "parameter")
-        return node
-
-    def visit_keyword(self, node: ast.keyword) -> ast.AST:
-        _check_name(node.arg, "keyword")
-        return self.generic_visit(node)
-
-    def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
-        value = self.visit(node.value)  # report the first offending name in reading order
-        _check_name(node.attr, "attribute")
-        if not isinstance(node.ctx, ast.Load):
-            raise _refuse(f"assignment to attribute '{node.attr}'")
-        call = ast.Call(
-            func=ast.Name(id=GETATTR, ctx=ast.Load()),
-            args=[value, ast.Constant(value=node.attr)],
-            keywords=[],
-        )
-        return ast.copy_location(call, node)
-
-    def visit_BinOp(self, node: ast.BinOp) -> ast.AST:
-        self.generic_visit(node)
-        helper = POW if isinstance(node.op, ast.Pow) else LSHIFT if isinstance(node.op, ast.LShift) else None
-        if helper is None:
+        if cls is A.Name:
+            _check_name(node.id, "name")
             return node
-        call = ast.Call(func=ast.Name(id=helper, ctx=ast.Load()), args=[node.left, node.right], keywords=[])
-        return ast.copy_location(call, node)
+        if cls is A.arg:
+            _check_name(node.arg, "parameter")
+            return node
+        if cls is A.keyword:
+            _check_name(node.arg, "keyword")
+        elif cls is A.Attribute:
+            value = self.visit(node.value)  # report the first offending name in reading order
+            _check_name(node.attr, "attribute")
+            if not isinstance(node.ctx, A.Load):
+                raise _refuse(f"assignment to attribute '{node.attr}'")
+            return self._call(GETATTR, [value, A.Constant(value=node.attr)], node)
+        if cls not in self.allowed and not isinstance(node, self.ops):
+            raise _refuse(f"{cls.__name__} expressions are not allowed")
+        AST = A.AST
+        for field in node._fields:
+            old = getattr(node, field, None)
+            if isinstance(old, list):
+                old[:] = [self.visit(v) if isinstance(v, AST) else v for v in old]
+            elif isinstance(old, AST):
+                setattr(node, field, self.visit(old))
+        if cls is A.BinOp:
+            op = type(node.op)
+            helper = POW if op is A.Pow else LSHIFT if op is A.LShift else None
+            if helper is not None:
+                return self._call(helper, [node.left, node.right], node)
+        return node
 
 
 @lru_cache(maxsize=8192)
@@ -181,10 +224,12 @@ def compile_expr(text: str) -> CodeType:
         SyntaxError: The text is not an expression.
         SandboxError: The expression uses something the sandbox refuses.
     """
-    tree = ast.parse(text, "<expression>", "eval")
-    tree = _Rewrite().visit(tree)
-    ast.fix_missing_locations(tree)
-    return compile(tree, "<expression>", "eval")
+    if is_simple(text):
+        return compile(text, "<expression>", "eval")
+    import _ast
+
+    tree = compile(text, "<expression>", "eval", _ONLY_AST)
+    return compile(_Rewriter(_ast).visit(tree), "<expression>", "eval")
 
 
 def _check_format(fmt: Any) -> None:

@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import re
 from functools import lru_cache
-from typing import Any
 
 from urdftk.xacro._tree import Element, mark_static
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 __all__ = ["Macro", "first_element", "parse_macro_arg", "parse_params", "resolve_macro", "tree_size"]
 

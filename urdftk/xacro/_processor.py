@@ -8,7 +8,6 @@ depends on exactly which text nodes end up next to each other.
 from __future__ import annotations
 
 import os
-from typing import Any
 
 from urdftk.errors import XacroError, close_names, format_location
 from urdftk.xacro._macros import Macro, first_element, resolve_macro
@@ -16,6 +15,10 @@ from urdftk.xacro._scope import Scope
 from urdftk.xacro._symbols import make_root
 from urdftk.xacro._tags import MAX_DEPTH, MAX_NODES, Tags, attrs_of, is_valid_name, to_bool
 from urdftk.xacro._tree import Comment, Element, Text, XmlSyntaxError, clone
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 __all__ = [
     "MAX_CALLS",

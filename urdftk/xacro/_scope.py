@@ -7,9 +7,11 @@ value is text is stored unevaluated and evaluated at its first use, in the scope
 
 from __future__ import annotations
 
-from typing import Any
-
 from urdftk.errors import XacroError
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 __all__ = ["NameSpace", "Scope", "literal"]
 

@@ -11,9 +11,12 @@ from __future__ import annotations
 
 import math
 import os
-from typing import Any
 
 from urdftk.errors import XacroError, close_names
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 __all__ = ["COMMANDS", "EvalScope", "collect", "convert_auto", "resolve"]
 

@@ -8,12 +8,15 @@ from __future__ import annotations
 
 import builtins
 import math
-from collections.abc import Callable
-from typing import Any
 
 from urdftk.xacro._eval import GETATTR, LSHIFT, POW, guarded_getattr, guarded_lshift, guarded_pow, safe_type
 from urdftk.xacro._scope import NameSpace
 from urdftk.xacro._yaml import YamlDict, YamlList
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from typing import Any
 
 __all__ = ["make_root", "tokenize"]
 

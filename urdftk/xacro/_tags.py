@@ -9,13 +9,16 @@ from __future__ import annotations
 
 import os
 from keyword import iskeyword
-from typing import Any
 
 from urdftk.errors import XacroError, close_names
 from urdftk.xacro._context import Context, IncludeIOError
 from urdftk.xacro._macros import Macro, first_element, tree_size
 from urdftk.xacro._scope import NameSpace, Scope
 from urdftk.xacro._tree import Comment, Element, Text, clone, parse_xml
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 __all__ = ["MAX_DEPTH", "MAX_NODES", "Tags", "attrs_of", "index_of", "is_valid_name", "to_bool"]
 

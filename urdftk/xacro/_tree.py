@@ -153,6 +153,28 @@ def mark_static(el: Element) -> int:
     return size
 
 
+def _reorder_at(text: str | bytes) -> set[int]:
+    """Byte offsets of the start tags where a namespace declaration follows another attribute.
+
+    minidom lists namespace declarations first; only these tags need their attributes reordered.
+    (A false positive is harmless: reordering is a no-op on a tag without declarations.)
+    """
+    if text.__class__ is str and not text.isascii():
+        text = text.encode()  # expat reports offsets into the UTF-8 encoding
+    if text.__class__ is str:
+        xmlns, lt, eq = "xmlns", "<", "="
+    else:
+        xmlns, lt, eq = b"xmlns", b"<", b"="
+    out = set()
+    i = text.find(xmlns)  # type: ignore[arg-type]
+    while i >= 0:
+        start = text.rfind(lt, 0, i)  # type: ignore[arg-type]
+        if start >= 0 and eq in text[start:i]:  # type: ignore[operator]
+            out.add(start)
+        i = text.find(xmlns, i + 5)  # type: ignore[arg-type]
+    return out
+
+
 def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Element]:
     """Parse a document.
 
@@ -168,56 +190,59 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
         XmlSyntaxError: The text is not well-formed, or declares a DOCTYPE/ENTITY.
     """
     p = ParserCreate()
-    top: list = []
-    stack: list = []
-    state: list = [top, False, None]  # current child list, inside CDATA, current CDATA node
+    top = []
+    stack = []
+    cur = top
+    cdata = None
+    reorder = _reorder_at(text)
 
-    def start(name, attributes):
-        if attributes:
-            it = iter(attributes)
-            attrs = dict(zip(it, it, strict=False))
-            if "xmlns" in " ".join(attributes[::2]):  # minidom lists namespace declarations first
-                ns = {k: v for k, v in attrs.items() if k == "xmlns" or k.startswith("xmlns:")}
-                ns.update(attrs)
-                attrs = ns
-        else:
-            attrs = {}
+    def start(name, attrs):
+        nonlocal cur
+        if reorder and p.CurrentByteIndex in reorder:
+            ns = {k: v for k, v in attrs.items() if k == "xmlns" or k.startswith("xmlns:")}
+            ns.update(attrs)
+            attrs = ns
         el = Element(name, attrs, p.CurrentLineNumber, filename)
-        cur = state[0]
         cur.append(el)
         stack.append(cur)
-        state[0] = el.children
+        cur = el.children
 
     def end(name):
-        state[0] = stack.pop()
+        nonlocal cur
+        cur = stack.pop()
 
     def chars(data):
-        cur = state[0]
-        if state[1]:
-            node = state[2]
-            if node is not None and cur and cur[-1] is node:
-                node.data += data
-            else:
-                node = state[2] = CData(data)
-                cur.append(node)
-        elif cur and cur[-1].__class__ is str:
-            cur[-1] += data
-        elif cur is not top:
+        if cur:
+            last = cur[-1]
+            if last.__class__ is str:
+                cur[-1] = last + data
+                return
+        if cur is not top:
             cur.append(data)
 
+    def cdata_chars(data):
+        nonlocal cdata
+        if cdata is not None and cur and cur[-1] is cdata:
+            cdata.data += data
+        else:
+            cdata = CData(data)
+            cur.append(cdata)
+
     def comment(data):
-        state[0].append(Comment(data, p.CurrentLineNumber))
+        cur.append(Comment(data, p.CurrentLineNumber))
 
     def pi(target, data):
-        state[0].append(PI(target, data))
+        cur.append(PI(target, data))
 
     def start_cdata():
-        state[1] = True
-        state[2] = None
+        nonlocal cdata
+        cdata = None
+        p.CharacterDataHandler = cdata_chars
 
     def end_cdata():
-        state[1] = False
-        state[2] = None
+        nonlocal cdata
+        cdata = None
+        p.CharacterDataHandler = chars
 
     def doctype(*args):
         raise XmlSyntaxError(
@@ -229,7 +254,6 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
         )
 
     p.buffer_text = True
-    p.ordered_attributes = True
     p.StartElementHandler = start
     p.EndElementHandler = end
     p.CharacterDataHandler = chars
@@ -243,7 +267,7 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
         p.Parse(text, True)
     except ExpatError as e:
         raise XmlSyntaxError(errors.messages[e.code], filename, e.lineno, e.offset + 1) from None
-    root = next((n for n in top if n.__class__ is Element), None)
-    if root is None:  # pragma: no cover - expat reports "no element found" first
-        raise XmlSyntaxError("no element found", filename, 1, 1)
-    return top, root
+    for n in top:
+        if n.__class__ is Element:
+            return top, n
+    raise XmlSyntaxError("no element found", filename, 1, 1)  # pragma: no cover - expat says so first

@@ -8,10 +8,13 @@ builtins. PyYAML is imported on first use; its global loader classes are never m
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from typing import Any
 
 from urdftk.errors import XacroError
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from typing import Any
 
 __all__ = ["UNITS", "YamlDict", "YamlList", "load_yaml_text", "wrap"]
 
