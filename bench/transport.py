@@ -3,9 +3,11 @@
     python bench/transport.py [--seconds 5] [--burst 20000]
 
 Measures, for a TFMessage of 30 transforms (CDR, 2.6 kB):
-- latency p50/p99 (publisher's stamp before encoding -> subscriber after decoding) at 100 Hz and 1 kHz;
+- latency p50/p99 (publisher's stamp before building the message -> subscriber callback with the
+  decoded message) at 100 Hz and 1 kHz;
 - sustained messages/s with no loss (publisher sends as fast as it can, subscriber counts);
-- CPU per side at 1 kHz (process CPU time / wall time, in % of one core);
+- CPU per side at 1 kHz (process CPU time / wall time, in % of one core); the publisher's figure
+  includes building the messages with the public constructors, which is also shown on its own;
 - end to end: JointState -> RobotStatePublisher (own process) -> /tf -> Buffer lookup latency.
 Both transports use the same codec, so the ratios compare the transports themselves.
 """
@@ -29,19 +31,24 @@ from tf.messages import Header, JointState, Quaternion, TFMessage, Time, Transfo
 from tf.transport import _cdr  # noqa: E402
 
 N_TF = 30
+PARENTS = tuple("world" if i == 0 else f"link_{i - 1}" for i in range(N_TF))
+CHILDREN = tuple(f"link_{i}" for i in range(N_TF))
 ROBOT = REPO / "examples/robots/mobile_manipulator_description/urdf/mobile_manipulator.urdf.xacro"
 
 
 def _message(k: int) -> TFMessage:
+    """A chain of N_TF moving frames, built with the public constructors as an application would."""
     stamp = Time.from_nsec(time.time_ns())
+    angle = k * 1e-3
+    qz, qw = math.sin(angle / 2), math.cos(angle / 2)
     return TFMessage(
         tuple(
             TransformStamped(
-                Header(stamp, "world" if i == 0 else f"link_{i - 1}"),
-                f"link_{i}",
-                Transform(Vector3(0.1 * i, 0.001 * k, 0.0), Quaternion(0.0, 0.0, math.sin(k * 1e-3), 1.0)),
+                Header(stamp, parent),
+                child,
+                Transform(Vector3(0.1 * i, 0.001 * k, 0.0), Quaternion(0.0, 0.0, qz, qw)),
             )
-            for i in range(N_TF)
+            for i, (parent, child) in enumerate(zip(PARENTS, CHILDREN, strict=True))
         )
     )
 
@@ -79,7 +86,11 @@ def _child(kind: str, rate: float, count: int, port: int, domain: int) -> None:
                 time.sleep(delay)
         send(_message(k))
     cpu, wall = time.process_time() - cpu0, time.perf_counter() - wall0
-    print(f"cpu {cpu / wall * 100:.2f} wall {wall:.3f}", flush=True)
+    build0 = time.process_time()
+    for k in range(count):  # what building the messages alone costs (the application's share)
+        _message(k)
+    build = time.process_time() - build0
+    print(f"cpu {cpu / wall * 100:.2f} wall {wall:.3f} build {build / wall * 100:.2f}", flush=True)
     sys.stdin.read()  # stay alive until the parent has everything
 
 
@@ -136,18 +147,20 @@ def _run(kind: str, rate: float, count: int) -> dict:
     latencies: list[int] = []
     done = threading.Event()
 
-    def on_payload(payload: bytes) -> None:
-        msg = _cdr.decode(TFMessage, payload)
+    def on_message(msg: TFMessage) -> None:
         latencies.append(time.time_ns() - msg.transforms[0].header.stamp.nanoseconds)
         if len(latencies) >= count:
             done.set()
+
+    def on_payload(payload: bytes) -> None:
+        on_message(_cdr.decode(TFMessage, payload))
 
     closer = None
     if kind == "zenoh":
         from tf.transport.zenoh import ZenohTransport
 
         bus = ZenohTransport(domain_id=domain, environ={})
-        bus.subscribe_raw("/tf", TFMessage, lambda payload, _info: on_payload(payload))
+        bus.subscribe("/tf", TFMessage, on_message)
         closer = bus.close
         child = _spawn("_pub", kind, str(rate), str(count), str(port), str(domain))
     else:
@@ -178,7 +191,8 @@ def _run(kind: str, rate: float, count: int) -> dict:
         child.kill()
         child.wait()
         closer()
-    pub_cpu, pub_wall = float(report.split()[1]), float(report.split()[3])
+    fields = report.split()
+    pub_cpu, pub_wall, pub_build = float(fields[1]), float(fields[3]), float(fields[5])
     lat = sorted(latencies)
     pick = (lambda p: lat[min(len(lat) - 1, int(p * len(lat)))] / 1000) if lat else (lambda p: float("nan"))
     return {
@@ -187,6 +201,7 @@ def _run(kind: str, rate: float, count: int) -> dict:
         "p50_us": pick(0.50),
         "p99_us": pick(0.99),
         "pub_cpu": pub_cpu,
+        "pub_build": pub_build,
         "sub_cpu": sub_cpu,
         "msgs_per_s": count / pub_wall,
     }
@@ -261,7 +276,8 @@ def main() -> None:
             results[kind, rate] = r = _run(kind, rate, int(rate * args.seconds))
             print(
                 f"{kind:5s} {rate:6.0f} Hz: got {r['received']}/{r['sent']}  latency p50 {r['p50_us']:.0f} us"
-                f"  p99 {r['p99_us']:.0f} us  cpu pub {r['pub_cpu']:.1f}%  sub {r['sub_cpu']:.1f}%",
+                f"  p99 {r['p99_us']:.0f} us  cpu pub {r['pub_cpu']:.1f}% (msgs {r['pub_build']:.1f}%)"
+                f"  sub {r['sub_cpu']:.1f}%",
                 flush=True,
             )
     for kind in ("zenoh", "zmq"):

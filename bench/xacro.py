@@ -5,7 +5,7 @@ Usage: python bench/xacro.py [--repeat N] [--only SUBSTRING] [--no-cli]
 1. In-process CPU time (``time.process_time``) per case, median of N runs each, stock's
    ``process_file`` + ``toprettyxml`` against ``urdftk.xacro.expand``; also the first (cold) run.
 2. Whole-process CPU time (child rusage) of the ``urdftk xacro`` command against the stock
-   ``xacro`` command, per case (median of N runs).
+   ``xacro`` command, per case (median of N runs each, the two commands alternating).
 
 Stock resolves ``$(find)`` through ament_index_python: it gets a temporary ament prefix with the
 corpus packages; ours gets ROS_PACKAGE_PATH, as in the corpus checker. Ours must reproduce the
@@ -52,16 +52,23 @@ def cpu(fn, repeat: int) -> tuple[float, float]:
     return times[0], statistics.median(times)
 
 
-def child_cpu(cmd: list[str], env: dict[str, str], repeat: int) -> float:
-    times = []
+def child_cpu(cmd: list[str], env: dict[str, str]) -> float:
+    """CPU time (user + system) of one run of ``cmd``, in ms."""
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    run = subprocess.run(cmd, cwd=CORPUS, env=env, capture_output=True, timeout=300)
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if run.returncode != 0:
+        raise RuntimeError(f"{cmd} failed: {run.stderr.decode()[-500:]}")
+    return (r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime) * 1000
+
+
+def cli_pair(stock: tuple[list[str], dict[str, str]], ours: tuple[list[str], dict[str, str]], repeat: int):
+    """Median CPU of each command over ``repeat`` runs, alternating them (load drifts hit both)."""
+    s, o = [], []
     for _ in range(repeat):
-        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-        run = subprocess.run(cmd, cwd=CORPUS, env=env, capture_output=True, timeout=300)
-        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-        if run.returncode != 0:
-            raise RuntimeError(f"{cmd} failed: {run.stderr.decode()[-500:]}")
-        times.append((r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime) * 1000)
-    return statistics.median(times)
+        s.append(child_cpu(*stock))
+        o.append(child_cpu(*ours))
+    return statistics.median(s), statistics.median(o)
 
 
 def main() -> None:
@@ -110,11 +117,10 @@ def main() -> None:
         o_cold, o_med = cpu(run_ours, a.repeat)
         row = {"id": c["id"], "stock": s_med, "ours": o_med, "stock_cold": s_cold, "ours_cold": o_cold}
         if not a.no_cli:
-            row["cli_stock"] = child_cpu(
-                [str(BIN / "xacro"), c["input"], *args], env_stock, max(1, a.repeat // 2)
-            )
-            row["cli_ours"] = child_cpu(
-                [str(BIN / "urdftk"), "xacro", c["input"], *args], env_ours, max(1, a.repeat // 2)
+            row["cli_stock"], row["cli_ours"] = cli_pair(
+                ([str(BIN / "xacro"), c["input"], *args], env_stock),
+                ([str(BIN / "urdftk"), "xacro", c["input"], *args], env_ours),
+                a.repeat,
             )
         rows.append(row)
         print(

@@ -54,7 +54,7 @@ def session():
 
 
 def test_robot_drawn_in_its_colours(session):
-    robot, view, _buffer, _scene, browser = session
+    _robot, _view, _buffer, _scene, browser = session
     img = browser.shot()
     orange = colour_mask(img, ORANGE, tol=25)
     assert count_in(orange, CENTRE) > 300, "the orange base cover (OBJ/MTL colour) is not drawn"
@@ -65,7 +65,7 @@ def test_robot_drawn_in_its_colours(session):
 
 
 def test_slider_moves_robot_and_tf(session):
-    robot, view, buffer, scene, browser = session
+    robot, _view, buffer, scene, browser = session
     q = robot.neutral()
     tip = "tool0"
     assert buffer.can_transform(robot.root_link, tip, tf.Time(), timeout=20), buffer.all_frames_as_string()
@@ -90,20 +90,24 @@ def test_slider_moves_robot_and_tf(session):
     changed = np.abs(after_img - before_img).max(axis=2) > 40
     assert count_in(changed, CENTRE) > 500, "the picture did not change after moving the sliders"
     # the scene node of the elbow's child carries exactly the joint transform TF has
-    node = scene.wait(lambda s: next((n for n in s.created if n.endswith("/upper_arm_link/forearm_link")), None))
+    node = scene.wait(
+        lambda s: next((n for n in s.created if n.endswith("/upper_arm_link/forearm_link")), None)
+    )
     T_upper_forearm = robot.transform("upper_arm_link", "forearm_link", q)
     scene.wait(lambda s: np.allclose(s.pose(node), T_upper_forearm, atol=1e-5))
 
 
 def test_fixed_frame_switch_moves_scene_root(session):
-    robot, view, buffer, scene, browser = session
+    robot, _view, buffer, scene, browser = session
     root_node = f"/tf/{robot.root_link}"
     scene.wait(lambda s: root_node in s.created)
     browser.tab("Display")
     browser.choose("Fixed frame", "tool0")
     T_root_tool = _lookup(buffer, robot.root_link, "tool0")
     expected = np.linalg.inv(T_root_tool)  # the root node is placed at T_fixed_root
-    got = scene.wait(lambda s: s.pose(root_node) if np.allclose(s.pose(root_node), expected, atol=1e-4) else None)
+    got = scene.wait(
+        lambda s: s.pose(root_node) if np.allclose(s.pose(root_node), expected, atol=1e-4) else None
+    )
     np.testing.assert_allclose(got, expected, atol=1e-4)
     browser.choose("Fixed frame", robot.root_link)
     scene.wait(lambda s: np.allclose(s.pose(root_node), np.eye(4), atol=1e-9))
@@ -111,7 +115,7 @@ def test_fixed_frame_switch_moves_scene_root(session):
 
 
 def test_collision_toggle(session):
-    robot, view, buffer, scene, browser = session
+    _robot, _view, _buffer, scene, browser = session
     browser.tab("Display")
     browser.click_checkbox("Collision")
     scene.wait(lambda s: any(n.endswith("/@collision") and v for n, v in s.visible.items()))

@@ -19,7 +19,11 @@ ROBOT0 = REPO / "examples/robots/robot0_description/urdf/robot0.urdf"
 
 def _run(*args: str, timeout: float = 120) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
-        [sys.executable, "-m", "urdftk", "view", *args], capture_output=True, text=True, timeout=timeout, cwd=REPO
+        [sys.executable, "-m", "urdftk", "view", *args],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        cwd=REPO,
     )
 
 
@@ -52,7 +56,12 @@ def test_markers_follow_their_frame():
         try:
             viewer.refresh()
             for i, kind in enumerate(MARKER_TYPES):
-                fields = {"ns": "t", "id": i, "position": (0.1 * i, 0, 0), "orientation": (0, 0, 0.7071068, 0.7071068)}
+                fields = {
+                    "ns": "t",
+                    "id": i,
+                    "position": (0.1 * i, 0, 0),
+                    "orientation": (0, 0, 0.7071068, 0.7071068),
+                }
                 if kind == "line_strip":
                     fields["points"] = ((0, 0, 0), (0.1, 0, 0), (0.1, 0.1, 0))
                 if kind == "text":

@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 from viewer_support import Browser, ViewProcess, colour_mask, count_in, free_port
 
-import tf
 import urdftk
 from tf.transport.zenoh import ZenohTransport
 from urdftk.joint_state import JointStatePublisher

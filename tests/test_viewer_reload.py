@@ -30,14 +30,27 @@ def test_reload_on_edit_and_error(tmp_path: Path):
             scene.wait(lambda s: abs(s.pose(node)[2, 3] - 0.425) < 1e-9, 10)
             before = browser.shot()
             # 1. a longer upper arm, in the included arm.xacro
-            arm.write_text(original.replace('name="arm_upper_arm_length" value="0.425"', 'name="arm_upper_arm_length" value="0.625"'))
+            arm.write_text(
+                original.replace(
+                    'name="arm_upper_arm_length" value="0.425"', 'name="arm_upper_arm_length" value="0.625"'
+                )
+            )
             t0 = time.monotonic()
-            scene.wait(lambda s: any(n.endswith(NODE_SUFFIX) and abs(s.pose(n)[2, 3] - 0.625) < 1e-9 for n in s.created), 2.0)
+            scene.wait(
+                lambda s: any(
+                    n.endswith(NODE_SUFFIX) and abs(s.pose(n)[2, 3] - 0.625) < 1e-9 for n in s.created
+                ),
+                2.0,
+            )
             assert time.monotonic() - t0 <= 2.0
             after = browser.shot()
-            assert scene_only(np.abs(after - before).max(axis=2) > 40).sum() > 300, "the page does not show the longer arm"
+            assert scene_only(np.abs(after - before).max(axis=2) > 40).sum() > 300, (
+                "the page does not show the longer arm"
+            )
             # 2. a syntax error: the message is shown, the robot stays
-            arm.write_text(original.replace("</robot>", "<robot") if "</robot>" in original else original + "<oops")
+            arm.write_text(
+                original.replace("</robot>", "<robot") if "</robot>" in original else original + "<oops"
+            )
             browser.page.get_by_text("Reload failed", exact=False).wait_for(timeout=10_000)
             text = browser.page.get_by_text("Reload failed", exact=False).inner_text()
             assert "arm.xacro" in text, text
@@ -45,5 +58,7 @@ def test_reload_on_edit_and_error(tmp_path: Path):
             browser.page.screenshot(path=str(tmp_path / "kept.png"))
             node = next(n for n in scene.created if n.endswith(NODE_SUFFIX))
             assert abs(scene.pose(node)[2, 3] - 0.625) < 1e-9, "the previous robot was not kept"
-            assert scene_only(np.abs(kept - after).max(axis=2) > 40).sum() < 200, "the picture changed after a failed reload"
+            assert scene_only(np.abs(kept - after).max(axis=2) > 40).sum() < 200, (
+                "the picture changed after a failed reload"
+            )
         scene.close()

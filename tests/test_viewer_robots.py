@@ -37,7 +37,7 @@ def test_panda_collada_colours():
     _check_region(robot)
     px = shown[robot]
     # the Collada materials: white links and dark grey (64, 64, 64) joints, lit
-    grey = (np.ptp(px, axis=1) < 12)
+    grey = np.ptp(px, axis=1) < 12
     dark = grey & (px.max(axis=1) < 110)
     light = grey & (px.min(axis=1) > 170)
     assert dark.sum() > 100, "Panda's dark grey Collada material is missing"

@@ -52,7 +52,9 @@ def example_robot_data() -> Path:
 class ViewProcess:
     """``urdftk view ARGS`` in a subprocess; waits for its URL line."""
 
-    def __init__(self, args: Sequence[str], *, domain: int | None = None, zenoh_port: int | None = None) -> None:
+    def __init__(
+        self, args: Sequence[str], *, domain: int | None = None, zenoh_port: int | None = None
+    ) -> None:
         env = {k: v for k, v in os.environ.items() if k not in _ZENOH_VARS}
         env["PYTHONUNBUFFERED"] = "1"
         env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH", "")]))
@@ -177,7 +179,7 @@ class SceneClient:
             self.positions.setdefault(name, np.zeros(3))
             self.wxyz.setdefault(name, np.array([1.0, 0, 0, 0]))
 
-    def wait(self, predicate, timeout: float = 10.0):  # noqa: ANN001
+    def wait(self, predicate, timeout: float = 10.0):
         deadline = time.monotonic() + timeout
         with self._changed:
             while True:
@@ -259,7 +261,7 @@ class Browser:
             prev = cur
         return png_array(cur)
 
-    def label(self, text: str):  # noqa: ANN201
+    def label(self, text: str):
         return self.page.locator("label").filter(has_text=re.compile(rf"^{re.escape(text)}$")).first
 
     def set_slider(self, name: str, value: float) -> None:

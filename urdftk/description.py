@@ -8,6 +8,7 @@ Structural faults that would make either library crash or disagree are raised he
 
 from __future__ import annotations
 
+import functools
 import io
 from collections import Counter
 from dataclasses import dataclass
@@ -39,14 +40,26 @@ class Description:
         filename: The file it came from (the .xacro for expanded files), if any.
         root: The XML root element, with source lines.
         tree: Links, joints and structure read from the XML.
-        urdf: The yourdfpy model, parsed from the same text (meshes not loaded).
+        resolver: Resolves ``package://`` and relative mesh references.
     """
 
     text: str
     filename: str | None
     root: etree._Element
     tree: TreeInfo
-    urdf: object  # yourdfpy.URDF; typed loosely to keep yourdfpy out of import time
+    resolver: PackageResolver
+
+    @functools.cached_property
+    def urdf(self) -> object:  # yourdfpy.URDF; typed loosely to keep yourdfpy out of import time
+        """The yourdfpy model, parsed from the same text on first use (meshes not loaded).
+
+        yourdfpy's parse costs several times Pinocchio's model build, so it is deferred until a
+        consumer (a viewer, a mesh loader) needs it.
+
+        Raises:
+            DescriptionError: If yourdfpy cannot parse the text.
+        """
+        return _parse_yourdfpy(self.text, self.filename, self.resolver)
 
     @property
     def name(self) -> str:
@@ -129,7 +142,7 @@ def parse_description(
     *,
     root: etree._Element | None = None,
 ) -> Description:
-    """Parse URDF text safely, check its structure, and parse it with yourdfpy.
+    """Parse URDF text safely and check its structure (yourdfpy parses it on first use).
 
     Args:
         text: URDF text.
@@ -153,18 +166,21 @@ def parse_description(
             f" (and {len(errors) - 1} more problem(s); run `urdftk check` for all)" if len(errors) > 1 else ""
         )
         raise DescriptionError(msg + more, filename, line)
+    res = resolver or PackageResolver(source=filename)
+    return Description(text=text, filename=filename, root=root, tree=tree, resolver=res)
+
+
+def _parse_yourdfpy(text: str, filename: str | None, resolver: PackageResolver) -> object:
     import yourdfpy
 
-    res = resolver or PackageResolver(source=filename)
     base = Path(filename).parent if filename else Path.cwd()
 
     def handler(fname: str) -> str:
-        return str(res.resolve(fname, relative_to=base))
+        return str(resolver.resolve(fname, relative_to=base))
 
-    data = text.encode("utf-8")
     try:
-        urdf = yourdfpy.URDF.load(
-            io.BytesIO(data),
+        return yourdfpy.URDF.load(
+            io.BytesIO(text.encode("utf-8")),
             build_scene_graph=False,
             load_meshes=False,
             load_collision_meshes=False,
@@ -173,4 +189,3 @@ def parse_description(
         )
     except Exception as exc:  # yourdfpy raises bare ValueError/AttributeError on bad values
         raise DescriptionError(f"yourdfpy cannot parse the description: {exc}", filename) from None
-    return Description(text=text, filename=filename, root=root, tree=tree, urdf=urdf)

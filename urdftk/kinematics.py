@@ -5,7 +5,8 @@ compute the same thing:
 
 * ``"numba"``: a compiled kernel (:mod:`urdftk._fk_numba`), used when numba is installed
   (``pip install urdftk[fast]``). It computes in float64 and stores the requested dtype.
-* ``"numpy"``: plain numpy, one vectorized step per link, computing in the requested dtype.
+* ``"numpy"``: plain numpy (:mod:`urdftk._fk_numpy`), blocks of configurations, a few vectorized
+  steps per link.
 
 ``"auto"`` picks numba when it can be imported, numpy otherwise.
 """
@@ -18,6 +19,7 @@ from typing import Literal
 
 import numpy as np
 
+from urdftk._fk_numpy import fk_numpy, multi_coordinate, quaternion_matrices
 from urdftk._structure import FLOATING, PLANAR, PRISMATIC, REVOLUTE, KinematicStructure
 
 __all__ = [
@@ -59,97 +61,6 @@ def make_plan(struct: KinematicStructure, links: Sequence[int]) -> tuple[np.ndar
     return np.flatnonzero(needed).astype(np.int64), slot
 
 
-def quaternion_matrices(quat: np.ndarray) -> np.ndarray:
-    """Rotation matrices of (..., 4) xyzw quaternions, normalized first.
-
-    Args:
-        quat: Quaternions, xyzw, any non-zero norm.
-
-    Returns:
-        (..., 3, 3) rotation matrices.
-    """
-    q = quat / np.linalg.norm(quat, axis=-1, keepdims=True)
-    x, y, z, w = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    R = np.empty((*q.shape[:-1], 3, 3), dtype=q.dtype)
-    R[..., 0, 0] = 1 - 2 * (y * y + z * z)
-    R[..., 0, 1] = 2 * (x * y - z * w)
-    R[..., 0, 2] = 2 * (x * z + y * w)
-    R[..., 1, 0] = 2 * (x * y + z * w)
-    R[..., 1, 1] = 1 - 2 * (x * x + z * z)
-    R[..., 1, 2] = 2 * (y * z - x * w)
-    R[..., 2, 0] = 2 * (x * z - y * w)
-    R[..., 2, 1] = 2 * (y * z + x * w)
-    R[..., 2, 2] = 1 - 2 * (x * x + y * y)
-    return R
-
-
-def _multi_coordinate(
-    struct: KinematicStructure, i: int, Qc: np.ndarray, dt
-) -> tuple[np.ndarray, np.ndarray]:
-    """Local (R, t) of a floating or planar joint for (N, n_coords) coordinates."""
-    c0 = int(struct.coord[i])
-    n = Qc.shape[0]
-    pos = np.zeros((n, 3))
-    if struct.jtype[i] == FLOATING:
-        pos[:] = Qc[:, c0 : c0 + 3]
-        Rq = quaternion_matrices(Qc[:, c0 + 3 : c0 + 7])
-    else:
-        pos[:, :2] = Qc[:, c0 : c0 + 2]
-        c, s = np.cos(Qc[:, c0 + 2]), np.sin(Qc[:, c0 + 2])
-        Rq = np.zeros((n, 3, 3))
-        Rq[:, 0, 0], Rq[:, 0, 1], Rq[:, 1, 0], Rq[:, 1, 1], Rq[:, 2, 2] = c, -s, s, c, 1.0
-    R = np.matmul(struct.rot[i], Rq)
-    t = struct.trans[i] + pos @ struct.rot[i].T
-    return R.astype(dt, copy=False), t.astype(dt, copy=False)
-
-
-def _fk_numpy(
-    struct: KinematicStructure, Q: np.ndarray, order: np.ndarray, slot: np.ndarray, out: np.ndarray
-):
-    dt = out.dtype
-    n_cfg = Q.shape[0]
-    children_left = np.bincount(struct.parent[order][struct.parent[order] >= 0], minlength=struct.n_links)
-    Rs: dict[int, np.ndarray] = {}
-    ts: dict[int, np.ndarray] = {}
-    rot = struct.rot.astype(dt)
-    trans = struct.trans.astype(dt)
-    for i in (int(k) for k in order):
-        code = struct.jtype[i]
-        tl: np.ndarray = trans[i]
-        if code == REVOLUTE:
-            th = struct.mult[i] * Q[:, struct.coord[i]] + struct.off[i]
-            s = np.sin(th).astype(dt)[:, None, None]
-            c1 = (1.0 - np.cos(th)).astype(dt)[:, None, None]
-            Rl = rot[i] + s * struct.rk[i].astype(dt) + c1 * struct.rk2[i].astype(dt)
-        elif code == PRISMATIC:
-            d = (struct.mult[i] * Q[:, struct.coord[i]] + struct.off[i]).astype(dt)
-            Rl, tl = rot[i], trans[i] + d[:, None] * struct.dirn[i].astype(dt)
-        elif code in (FLOATING, PLANAR):
-            Rl, tl = _multi_coordinate(struct, i, Q, dt)
-        else:
-            Rl = rot[i]
-        p = int(struct.parent[i])
-        if p < 0:
-            R = np.broadcast_to(Rl, (n_cfg, 3, 3))
-            t = np.broadcast_to(tl, (n_cfg, 3))
-        else:
-            Rp, tp = Rs[p], ts[p]
-            R = np.matmul(Rp, Rl)
-            t = tp + (np.matmul(Rp, tl) if tl.ndim == 1 else np.einsum("nij,nj->ni", Rp, tl))
-            children_left[p] -= 1
-            if children_left[p] == 0:
-                del Rs[p], ts[p]
-        sl = int(slot[i])
-        if sl >= 0:
-            out[:, sl, :3, :3] = R
-            out[:, sl, :3, 3] = t
-            out[:, sl, 3, :3] = 0.0
-            out[:, sl, 3, 3] = 1.0
-            R, t = out[:, sl, :3, :3], out[:, sl, :3, 3]
-        if children_left[i] > 0:
-            Rs[i], ts[i] = R, t
-
-
 def fk_batch(
     struct: KinematicStructure,
     Q: np.ndarray,
@@ -157,6 +68,7 @@ def fk_batch(
     out: np.ndarray,
     backend: Backend = "auto",
     plan: tuple[np.ndarray, np.ndarray] | None = None,
+    packed: np.ndarray | None = None,
 ) -> np.ndarray:
     """Compute ``T_root_link`` for many configurations at once.
 
@@ -167,6 +79,7 @@ def fk_batch(
         out: C-contiguous (N, len(links), 4, 4) float32/float64 array to fill.
         backend: ``"auto"``, ``"numba"`` or ``"numpy"``.
         plan: The result of :func:`make_plan` for ``links``, if already known.
+        packed: The result of :func:`urdftk._fk_numba.pack` for ``struct``, if already known.
 
     Returns:
         ``out``.
@@ -180,13 +93,12 @@ def fk_batch(
     order, slot = plan if plan is not None else make_plan(struct, links)
     use_numba = backend == "numba" or (backend == "auto" and has_numba())
     if use_numba:
-        from urdftk._fk_numba import fk_kernel
+        from urdftk._fk_numba import block_size, fk_batch_kernel, pack
 
-        s = struct
-        args = (s.parent, s.jtype, s.coord, s.mult, s.off, s.rot, s.trans, s.rk, s.rk2, s.dirn)
-        fk_kernel(Q, s.angles, order, *args, slot, out)
+        pk = packed if packed is not None else pack(struct)
+        fk_batch_kernel(Q, pk, order, slot, block_size(struct.n_links, out.shape[1]), out)
     else:
-        _fk_numpy(struct, Q, order, slot, out)
+        fk_numpy(struct, Q, order, slot, out)
     return out
 
 
@@ -212,7 +124,7 @@ def local_transforms(struct: KinematicStructure, q: np.ndarray) -> np.ndarray:
     T[:, :3, 3] = struct.trans + d[:, None] * struct.dirn
     T[:, 3, 3] = 1.0
     for i in np.flatnonzero((struct.jtype == FLOATING) | (struct.jtype == PLANAR)):
-        R, t = _multi_coordinate(struct, int(i), q[None, :], np.float64)
+        R, t = multi_coordinate(struct, int(i), q[None, :])
         T[i, :3, :3], T[i, :3, 3] = R[0], t[0]
     return T
 

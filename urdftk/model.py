@@ -23,58 +23,27 @@ world frame (:attr:`Robot.world_frame`) with a floating base.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from urdftk import kinematics
+from urdftk._config import ConfigSpace, Limits
+from urdftk._engine import Engine, Kernels
 from urdftk._pinmap import build_pinmap
-from urdftk._structure import FLOATING, build_structure
+from urdftk._structure import build_structure
 from urdftk.description import Description
-from urdftk.errors import (
-    ConfigurationError,
-    DescriptionError,
-    JointNotFound,
-    KinematicsError,
-    LinkNotFound,
-)
+from urdftk.errors import ConfigurationError, DescriptionError, LinkNotFound
 from urdftk.pose import Pose
 from urdftk.resources import PackageResolver
 
 __all__ = ["Limits", "Robot"]
 
 _PIN_FK_MAX_NV = 300
-"""Above this many velocity coordinates, single FK uses our own code (Pinocchio's Data is O(nv^3))."""
-_PIN_DATA_MAX_NV = 500
-"""Above this, Jacobians and the centre of mass are refused (Pinocchio's Data would need gigabytes)."""
+"""Above this many velocity coordinates, FK without numba uses our own code (Pinocchio's Data is O(nv^3))."""
 _REFERENCES = ("world", "local", "local_world_aligned")
-
-
-@dataclass(frozen=True, eq=False)
-class Limits:
-    """Joint limits over :attr:`Robot.joint_names` (read-only arrays).
-
-    Attributes:
-        lower: Lower position limits (continuous joints and positions of free joints: ``-inf``).
-        upper: Upper position limits (``+inf`` when unbounded).
-        velocity: Velocity limits (``inf`` when not given).
-        effort: Effort limits (``inf`` when not given).
-    """
-
-    lower: np.ndarray
-    upper: np.ndarray
-    velocity: np.ndarray
-    effort: np.ndarray
-
-
-def _readonly(a: np.ndarray) -> np.ndarray:
-    b = np.array(a, dtype=np.float64)
-    b.setflags(write=False)
-    return b
 
 
 class Robot:
@@ -124,14 +93,10 @@ class Robot:
         self.root_link: str = s.link_names[0]
         self.world_frame: str | None = s.world_frame
         self.joint_names: tuple[str, ...] = s.coord_names
-        self.mimic: dict[str, tuple[str, float, float]] = {
-            f: (m.master, m.multiplier, m.offset) for f, m in s.mimic.items()
-        }
-        self.limits = Limits(
-            _readonly(s.lower), _readonly(s.upper), _readonly(s.velocity), _readonly(s.effort)
-        )
+        self._cfg = cfg = ConfigSpace(self.name, s)
+        self.mimic: dict[str, tuple[str, float, float]] = cfg.mimic
+        self.limits: Limits = cfg.limits
         self._link_index = {n: i for i, n in enumerate(s.link_names)}
-        self._coord_index = {n: i for i, n in enumerate(s.coord_names)}
         self._frame_id = {}
         for link in s.link_names:
             fid = self.model.getFrameId(link, pin.BODY)
@@ -140,9 +105,8 @@ class Robot:
             self._frame_id[link] = fid
         self._all_links = np.arange(s.n_links)
         self._all_plan = kinematics.make_plan(s, self._all_links)
-        self._quat_coords = [int(s.coord[i]) + 3 for i in np.flatnonzero(s.jtype == FLOATING)]
-        self._lock = threading.Lock()
-        self._data: Any = None
+        self._engine = Engine(self.name, s, self.model)
+        self._kern: Kernels | None = None
 
     # ----------------------------------------------------------------- configurations
     @property
@@ -157,10 +121,7 @@ class Robot:
 
     def neutral(self) -> np.ndarray:
         """Return the neutral configuration: zero clipped into the limits, identity quaternions."""
-        q = np.clip(np.zeros(self.dof), self.limits.lower, self.limits.upper)
-        for c in self._quat_coords:
-            q[c : c + 4] = (0.0, 0.0, 0.0, 1.0)
-        return q
+        return self._cfg.neutral()
 
     def random(self, rng: np.random.Generator | int | None = None) -> np.ndarray:
         """Draw a configuration uniformly within the limits.
@@ -176,19 +137,7 @@ class Robot:
             (dof,) configuration.
         """
         gen = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
-        lo, hi = self.limits.lower.copy(), self.limits.upper.copy()
-        ang = self._s.angular
-        wide = ang & ~(hi - lo <= 2 * np.pi)  # unbounded or wider than a turn: one turn is enough
-        lo = np.where(wide, np.clip(-np.pi, lo, np.maximum(lo, hi - 2 * np.pi)), lo)
-        hi = np.where(wide, lo + 2 * np.pi, hi)
-        free = ~ang & ~np.isfinite(hi - lo)
-        lo = np.where(free, np.clip(-1.0, lo, np.maximum(lo, hi - 2.0)), lo)
-        hi = np.where(free, lo + 2.0, hi)
-        q = gen.uniform(lo, hi)
-        for c in self._quat_coords:
-            v = gen.normal(size=4)
-            q[c : c + 4] = v / np.linalg.norm(v)
-        return q
+        return self._cfg.random(gen)
 
     def q(self, value: Mapping[str, float] | Sequence[float] | np.ndarray, clip: bool = False) -> np.ndarray:
         """Convert a configuration given by name or as an array into a checked (dof,) array.
@@ -205,78 +154,11 @@ class Robot:
             JointNotFound: For an unknown joint name.
             ConfigurationError: Wrong length, non-finite value, out of limits, or mimic disagreement.
         """
-        if isinstance(value, Mapping):
-            q = self._from_mapping(value)
-        else:
-            q = np.array(value, dtype=np.float64)
-            if q.shape != (self.dof,):
-                raise ConfigurationError(
-                    f"{self.name}: expected {self.dof} joint values in joint_names order, got shape {q.shape}"
-                )
-        if not np.all(np.isfinite(q)):
-            bad = [self.joint_names[i] for i in np.flatnonzero(~np.isfinite(q))]
-            raise ConfigurationError(f"{self.name}: non-finite value for joint(s) {', '.join(bad)}")
-        for c in self._quat_coords:
-            norm = np.linalg.norm(q[c : c + 4])
-            if not norm > 1e-12:
-                raise ConfigurationError(f"{self.name}: quaternion of {self.joint_names[c][:-3]} is zero")
-            q[c : c + 4] /= norm
-        lo, hi = self.limits.lower, self.limits.upper
-        outside = (q < lo - 1e-9) | (q > hi + 1e-9)
-        if np.any(outside):
-            if not clip:
-                items = [
-                    f"{self.joint_names[i]}={q[i]:.6g} not in [{lo[i]:.6g}, {hi[i]:.6g}]"
-                    for i in np.flatnonzero(outside)
-                ]
-                raise ConfigurationError(
-                    f"{self.name}: out of limits: {'; '.join(items)} "
-                    "(use clip=True, or --clip on the command line, to clip)"
-                )
-            q = np.clip(q, lo, hi)
-        return q
-
-    def _from_mapping(self, value: Mapping[str, float]) -> np.ndarray:
-        q = self.neutral()
-        given: set[int] = set()
-        followers: list[tuple[str, float]] = []
-        for name, v in value.items():
-            i = self._coord_index.get(name)
-            if i is not None:
-                q[i] = float(v)
-                given.add(i)
-            elif name in self.mimic:
-                followers.append((name, float(v)))
-            else:
-                raise JointNotFound(name, [*self.joint_names, *self.mimic])
-        for name, v in followers:
-            master, mult, off = self.mimic[name]
-            i = self._coord_index[master]
-            if i not in given and mult != 0.0:
-                q[i] = (v - off) / mult
-                given.add(i)
-            elif abs(mult * q[i] + off - v) > 1e-6:
-                raise ConfigurationError(
-                    f"{self.name}: mimic joint {name}={v:.6g} disagrees with its master {master}={q[i]:.6g} "
-                    f"(expected {mult * q[i] + off:.6g}); give the master only"
-                )
-        return q
+        return self._cfg.check(value, clip)
 
     def _coerce(self, q: Any) -> np.ndarray:
         """Shape- and finiteness-checked float64 coordinates; limits are not enforced here."""
-        if type(q) is np.ndarray and q.shape == (self.dof,) and q.dtype == np.float64:
-            u = q
-        elif isinstance(q, Mapping):
-            u = self._from_mapping(q)
-        else:
-            u = np.asarray(q, dtype=np.float64)
-            if u.shape != (self.dof,):
-                raise ConfigurationError(
-                    f"{self.name}: expected {self.dof} joint values in joint_names order, got shape {u.shape}"
-                )
-        if not np.isfinite(u).all():
-            raise ConfigurationError(f"{self.name}: configuration contains NaN or inf")
-        return u
+        return self._cfg.coerce(q)
 
     def joint_positions(self, q: Any) -> dict[str, float]:
         """Return the value of every one-coordinate movable joint, mimic followers included.
@@ -304,19 +186,9 @@ class Robot:
         except KeyError:
             raise LinkNotFound(name, self.link_names) from None
 
-    def _pin_data(self):
-        if self._data is None:
-            if self.model.nv > _PIN_DATA_MAX_NV:
-                raise KinematicsError(
-                    f"{self.name}: {self.model.nv} velocity coordinates; "
-                    "Pinocchio's Data needs O(nv^3) memory, "
-                    f"so Jacobians and the centre of mass are limited to {_PIN_DATA_MAX_NV} coordinates"
-                )
-            try:
-                self._data = self.model.createData()
-            except MemoryError:
-                raise KinematicsError(f"{self.name}: not enough memory for Pinocchio's Data") from None
-        return self._data
+    def _kernels(self) -> Kernels | None:
+        self._kern = self._engine.kernels()
+        return self._kern
 
     def fk(self, q: Any, *, backend: kinematics.Backend = "auto") -> np.ndarray:
         """Return every link pose ``T_root_link``.
@@ -328,6 +200,16 @@ class Robot:
         Returns:
             (n_links, 4, 4) float64 array, rows in :attr:`link_names` order.
         """
+        kern = self._kern or self._kernels() if backend in ("auto", "numba") else None
+        if kern is not None:
+            out = np.empty((self._s.n_links, 4, 4))
+            try:
+                status = kern.one_all(q, kern.pk, out)
+            except TypeError:  # not a float64 vector (a mapping, a list, another dtype): convert
+                status = kern.one_all(self._cfg.coerce(q, False), kern.pk, out)
+            if status:
+                self._cfg.coerce(q)  # raises the shape or finiteness error
+            return out
         u = self._coerce(q)
         out = np.empty((1, self._s.n_links, 4, 4))
         kinematics.fk_batch(self._s, u[None, :], self._all_links, out, backend, plan=self._all_plan)
@@ -343,23 +225,33 @@ class Robot:
         Raises:
             LinkNotFound: For an unknown name, listing the valid ones.
         """
-        if name == self.world_frame and name is not None:
-            self._coerce(q)
-            return np.eye(4)
-        fid = self._frame_id.get(name)
-        if fid is None:
-            self._link(name)
+        i = self._link_index.get(name)
+        if i is None:
+            if name == self.world_frame and name is not None:
+                self._coerce(q)
+                return np.eye(4)
+            raise LinkNotFound(name, self.link_names)
+        kern = self._kern or self._kernels()
+        if kern is not None:
+            out = np.empty((4, 4))
+            try:
+                status = kern.one_link(q, kern.pk, i, out)
+            except TypeError:  # not a float64 vector (a mapping, a list, another dtype): convert
+                status = kern.one_link(self._cfg.coerce(q, False), kern.pk, i, out)
+            if status:
+                self._cfg.coerce(q)  # raises the shape or finiteness error
+            return out
         u = self._coerce(q)
         if self.model.nv > _PIN_FK_MAX_NV:
-            s = self._s
-            return kinematics.fk_chain(s, kinematics.local_transforms(s, u), self._link_index[name])
+            return kinematics.fk_chain(self._s, kinematics.local_transforms(self._s, u), i)
         import pinocchio as pin
 
         pq = self._map.to_pin(u)
-        with self._lock:
-            data = self._pin_data()
-            pin.forwardKinematics(self.model, data, pq)
-            return pin.updateFramePlacement(self.model, data, fid).homogeneous
+        with self._engine.lock:
+            pin.forwardKinematics(self.model, self._engine.pin_data(), pq)
+            return pin.updateFramePlacement(
+                self.model, self._engine.pin_data(), self._frame_id[name]
+            ).homogeneous
 
     def pose(self, name: str, q: Any) -> Pose:
         """Return :meth:`frame_pose` as an immutable :class:`~urdftk.pose.Pose`."""
@@ -417,8 +309,8 @@ class Robot:
             "local": pin.ReferenceFrame.LOCAL,
             "local_world_aligned": pin.ReferenceFrame.LOCAL_WORLD_ALIGNED,
         }[reference]
-        with self._lock:
-            data = self._pin_data()
+        with self._engine.lock:
+            data = self._engine.pin_data()
             J = pin.computeFrameJacobian(self.model, data, self._map.to_pin(u), self._frame_id[frame], rf)
         return np.asarray(J).reshape(6, self.model.nv) @ self._map.velocity_map(u)
 
@@ -427,8 +319,8 @@ class Robot:
         import pinocchio as pin
 
         u = self._coerce(q)
-        with self._lock:
-            return np.array(pin.centerOfMass(self.model, self._pin_data(), self._map.to_pin(u)))
+        with self._engine.lock:
+            return np.array(pin.centerOfMass(self.model, self._engine.pin_data(), self._map.to_pin(u)))
 
     # ----------------------------------------------------------------- batched FK
     def fk_batch(
@@ -482,7 +374,7 @@ class Robot:
                 f"out must be a writable C-contiguous {dt} array of shape {shape}, "
                 f"got {out.dtype} {out.shape}"
             )
-        return kinematics.fk_batch(self._s, Qa, idx, out, backend, plan=plan)
+        return kinematics.fk_batch(self._s, Qa, idx, out, backend, plan=plan, packed=self._engine.packed())
 
     def __repr__(self) -> str:
         return f"Robot({self.name!r}, links={len(self.link_names)}, dof={self.dof})"

@@ -57,6 +57,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``urdftk view``; return the exit status."""
+    import contextlib
     import signal
     import sys
     import threading
@@ -104,7 +105,9 @@ def run(args: argparse.Namespace) -> int:
 
             def reload() -> None:
                 try:
-                    new_robot, new_files = load_robot(args.robot, mappings, args.package_path, with_includes=True)
+                    new_robot, new_files = load_robot(
+                        args.robot, mappings, args.package_path, with_includes=True
+                    )
                 except (UrdftkError, OSError, ValueError) as exc:
                     text = " ".join(str(exc).split())
                     print(
@@ -121,10 +124,8 @@ def run(args: argparse.Namespace) -> int:
 
             watcher = FileWatcher(files, reload)
         signal.signal(signal.SIGTERM, lambda *_: stop.set())
-        try:
+        with contextlib.suppress(KeyboardInterrupt):
             stop.wait()
-        except KeyboardInterrupt:
-            pass
         return 0
     finally:
         if watcher is not None:

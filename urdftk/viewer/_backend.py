@@ -62,7 +62,13 @@ class SceneBackend(ABC):
 
     @abstractmethod
     def add_lines(
-        self, name: str, segments: np.ndarray, rgb: tuple[float, float, float], *, width: float, visible: bool = True
+        self,
+        name: str,
+        segments: np.ndarray,
+        rgb: tuple[float, float, float],
+        *,
+        width: float,
+        visible: bool = True,
     ) -> None:
         """Add line segments, ``segments`` (n, 2, 3) in the parent node's frame."""
 

@@ -83,7 +83,9 @@ def _transformed(vertices: np.ndarray, T: np.ndarray) -> np.ndarray:
     return (vertices @ T[:3, :3].T + T[:3, 3]).astype(np.float32)
 
 
-def _material_rgba(material: Any, named: dict[str, tuple[float, ...]]) -> tuple[float, float, float, float] | None:
+def _material_rgba(
+    material: Any, named: dict[str, tuple[float, ...]]
+) -> tuple[float, float, float, float] | None:
     """The colour a URDF ``<material>`` gives, or None."""
     if material is None:
         return None
@@ -178,6 +180,14 @@ class GeometryLoader:
         self._cache[key] = parts
         return parts
 
+    def mesh_parts(self, resource: str, rgba: tuple[float, float, float, float]) -> list[MeshPart]:
+        """The parts of one mesh file (in its own frame); parts without a material get ``rgba``."""
+        parts = []
+        for verts, faces, mesh in self._mesh_file(self.resolve(resource)):
+            own, colors = _own_colour(mesh)
+            parts.append(MeshPart(verts, faces, own or rgba, colors))
+        return parts
+
     def _element_parts(
         self, element: Any, urdf_rgba: tuple[float, float, float, float] | None, collision: bool
     ) -> list[MeshPart]:
@@ -198,7 +208,9 @@ class GeometryLoader:
         elif g.sphere is not None:
             prim = trimesh.creation.icosphere(subdivisions=2, radius=float(g.sphere.radius))
         if prim is not None:
-            return [MeshPart(_transformed(prim.vertices, T), np.asarray(prim.faces, dtype=np.uint32), fallback)]
+            return [
+                MeshPart(_transformed(prim.vertices, T), np.asarray(prim.faces, dtype=np.uint32), fallback)
+            ]
         if g.mesh is None:
             return []
         path = self.resolve(g.mesh.filename)
@@ -211,7 +223,9 @@ class GeometryLoader:
             out.append(MeshPart(v, np.ascontiguousarray(f), rgba or fallback, colors))
         return out
 
-    def load(self, description: Any, kind: str, links: Iterable[str] | None = None) -> dict[str, LinkGeometry]:
+    def load(
+        self, description: Any, kind: str, links: Iterable[str] | None = None
+    ) -> dict[str, LinkGeometry]:
         """Load the ``kind`` ("visual" or "collision") geometry of every link.
 
         Args:
@@ -238,7 +252,9 @@ class GeometryLoader:
             parts: list[MeshPart] = []
             problems: list[str] = []
             for element in elements or []:
-                rgba = None if kind == "collision" else _material_rgba(getattr(element, "material", None), named)
+                rgba = (
+                    None if kind == "collision" else _material_rgba(getattr(element, "material", None), named)
+                )
                 try:
                     parts.extend(self._element_parts(element, rgba, kind == "collision"))
                 except ResourceError as exc:

@@ -107,7 +107,9 @@ def _part(mesh: Any, rgba: tuple[float, float, float, float], T: np.ndarray | No
     )
 
 
-def _arrow(start: np.ndarray, end: np.ndarray, shaft_d: float, head_d: float, head_len: float, rgba: Any) -> MeshPart:
+def _arrow(
+    start: np.ndarray, end: np.ndarray, shaft_d: float, head_d: float, head_len: float, rgba: Any
+) -> MeshPart:
     import trimesh
 
     axis = end - start
@@ -150,7 +152,9 @@ def marker_items(marker: Marker, load_mesh: Any = None) -> list[MarkerItem]:
             return [MarkerItem("mesh", _arrow(start, end, sx, sy, sz or 0.3 * sy, rgba))]
         return [MarkerItem("mesh", _arrow(np.zeros(3), np.array([sx, 0, 0]), sy, sz, 0.23 * sx, rgba))]
     if t == "sphere":
-        return [MarkerItem("mesh", _part(trimesh.creation.icosphere(2, 0.5), rgba, np.diag([sx, sy, sz, 1.0])))]
+        return [
+            MarkerItem("mesh", _part(trimesh.creation.icosphere(2, 0.5), rgba, np.diag([sx, sy, sz, 1.0])))
+        ]
     if t == "box":
         return [MarkerItem("mesh", _part(trimesh.creation.box(extents=(sx, sy, sz)), rgba))]
     if t == "cylinder":
@@ -165,6 +169,4 @@ def marker_items(marker: Marker, load_mesh: Any = None) -> list[MarkerItem]:
         raise ValueError("mesh markers need a mesh loader")
     parts = load_mesh(marker.mesh_resource)
     scale = np.asarray(marker.scale, dtype=np.float32)
-    return [
-        MarkerItem("mesh", MeshPart(p.vertices * scale, p.faces, p.rgba, p.vertex_colors)) for p in parts
-    ]
+    return [MarkerItem("mesh", MeshPart(p.vertices * scale, p.faces, p.rgba, p.vertex_colors)) for p in parts]

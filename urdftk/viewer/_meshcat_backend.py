@@ -27,7 +27,7 @@ _PREFIX = "/meshcat"
 
 
 def _hex(rgb: Sequence[float]) -> int:
-    r, g, b = (int(round(255 * min(max(c, 0.0), 1.0))) for c in rgb[:3])
+    r, g, b = (round(255 * min(max(c, 0.0), 1.0)) for c in rgb[:3])
     return (r << 16) | (g << 8) | b
 
 
@@ -46,7 +46,9 @@ class _Server:
         self._error: BaseException | None = None
         self._http = None
         self.port = port
-        self._thread = threading.Thread(target=self._run, args=(host, port), name="urdftk-meshcat", daemon=True)
+        self._thread = threading.Thread(
+            target=self._run, args=(host, port), name="urdftk-meshcat", daemon=True
+        )
         self._thread.start()
         self._started.wait()
         if self._error is not None:
@@ -73,7 +75,11 @@ class _Server:
         try:
             app = tornado.web.Application(
                 [
-                    (r"/static/(.*)", tornado.web.StaticFileHandler, {"path": self._root, "default_filename": "index.html"}),
+                    (
+                        r"/static/(.*)",
+                        tornado.web.StaticFileHandler,
+                        {"path": self._root, "default_filename": "index.html"},
+                    ),
                     (r"/", Socket),
                 ]
             )
@@ -91,8 +97,10 @@ class _Server:
         from meshcat.servers.tree import walk
 
         for node in walk(self.tree):
-            for data in ([node.object] if node.object is not None else []) + list(node.properties) + (
-                [node.transform] if node.transform is not None else []
+            for data in (
+                ([node.object] if node.object is not None else [])
+                + list(node.properties)
+                + ([node.transform] if node.transform is not None else [])
             ):
                 socket.write_message(data, binary=True)  # type: ignore[attr-defined]
 
@@ -206,7 +214,7 @@ class MeshcatBackend(SceneBackend):
 
     def set_poses(self, names: Sequence[str], positions: np.ndarray, xyzw: np.ndarray) -> None:
         """Move nodes."""
-        for name, p, q in zip(names, positions, xyzw):
+        for name, p, q in zip(names, positions, xyzw, strict=True):
             self._set_transform(name, xyzw_to_matrix(p, q))
 
     def set_axes(self, name: str, show: bool, axes_length: float) -> None:
@@ -233,7 +241,9 @@ class MeshcatBackend(SceneBackend):
         colors = None if part.vertex_colors is None else part.vertex_colors[:, :3].astype(np.float32) / 255.0
         alpha = float(opacity * part.rgba[3])
         material = g.MeshLambertMaterial(
-            color=0xFFFFFF if colors is not None else _hex(part.rgba), opacity=alpha, vertexColors=colors is not None
+            color=0xFFFFFF if colors is not None else _hex(part.rgba),
+            opacity=alpha,
+            vertexColors=colors is not None,
         )
         return g.Mesh(g.TriangularMeshGeometry(part.vertices, part.faces, color=colors), material)
 
@@ -252,7 +262,13 @@ class MeshcatBackend(SceneBackend):
         """Meshcat has no text labels: nothing is drawn."""
 
     def add_lines(
-        self, name: str, segments: np.ndarray, rgb: tuple[float, float, float], *, width: float, visible: bool = True
+        self,
+        name: str,
+        segments: np.ndarray,
+        rgb: tuple[float, float, float],
+        *,
+        width: float,
+        visible: bool = True,
     ) -> None:
         """Add line segments."""
         from meshcat import geometry as g

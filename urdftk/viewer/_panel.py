@@ -8,6 +8,7 @@ Values assigned from Python (``client is None``) never echo back as user input.
 from __future__ import annotations
 
 import math
+import threading
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -62,6 +63,7 @@ class Panel:
         self._link_boxes: dict[str, Any] = {}
         self._neutral: dict[str, float] = {}
         self._robot: Any = None
+        self._lock = threading.RLock()  # GUI containers may be entered by one thread at a time
         gui = server.gui
         self._tabs = gui.add_tab_group(order=0)
         self._joints_tab = self._tabs.add_tab("Joints")
@@ -71,13 +73,17 @@ class Panel:
     # ------------------------------------------------------------------ joints
     def set_robot(self, robot: Any, values: Mapping[str, float]) -> None:
         """(Re)build the joint sliders for ``robot``, starting at ``values``."""
+        with self._lock:
+            self._build_joints(robot, values)
+
+    def _build_joints(self, robot: Any, values: Mapping[str, float]) -> None:
         self._robot = robot
         if self._joint_folder is not None:
             self._joint_folder.remove()
         self._sliders = {}
         gui = self._server.gui
         neutral = robot.neutral()
-        self._neutral = {n: float(v) for n, v in zip(robot.joint_names, neutral)}
+        self._neutral = {n: float(v) for n, v in zip(robot.joint_names, neutral, strict=True)}
         with self._joints_tab, gui.add_folder("Joints", order=1) as folder:
             self._joint_folder = folder
             if not self._listen:
@@ -126,8 +132,13 @@ class Panel:
         self._push(values)
 
     def _center(self) -> None:
-        values = {n: (s.min + s.max) / 2 if n not in self._neutral else self._neutral[n] for n, s in self._sliders.items()}
-        self._push({n: float(np.clip(v, self._sliders[n].min, self._sliders[n].max)) for n, v in values.items()})
+        values = {
+            n: (s.min + s.max) / 2 if n not in self._neutral else self._neutral[n]
+            for n, s in self._sliders.items()
+        }
+        self._push(
+            {n: float(np.clip(v, self._sliders[n].min, self._sliders[n].max)) for n, v in values.items()}
+        )
 
     # ------------------------------------------------------------------ display
     def _build_display(self) -> None:
@@ -135,7 +146,9 @@ class Panel:
         o = scene.options
         with self._display_tab:
             self._fixed = gui.add_dropdown("Fixed frame", options=(scene.fixed_frame or "(none)",))
-            self._fixed.on_update(lambda e: e.client is not None and self._on_fixed_frame(str(self._fixed.value)))
+            self._fixed.on_update(
+                lambda e: e.client is not None and self._on_fixed_frame(str(self._fixed.value))
+            )
             with gui.add_folder("Robot model"):
                 visual = gui.add_checkbox("Visual", o.show_visual)
                 collision = gui.add_checkbox("Collision", o.show_collision)
@@ -157,6 +170,10 @@ class Panel:
 
     def set_frames(self, frames: Sequence[str], links: Sequence[str]) -> None:
         """Refresh the fixed-frame choices, the per-frame axes boxes and the per-link boxes."""
+        with self._lock:
+            self._add_frame_boxes(frames, links)
+
+    def _add_frame_boxes(self, frames: Sequence[str], links: Sequence[str]) -> None:
         gui, scene = self._server.gui, self._scene
         options = tuple(frames) or ("(none)",)
         if tuple(self._fixed.options) != options:
@@ -174,7 +191,9 @@ class Panel:
             for link in links:
                 if link not in self._link_boxes:
                     box = gui.add_checkbox(link, True)
-                    box.on_update(lambda _e, link=link, box=box: scene.set_link_visible(link, bool(box.value)))
+                    box.on_update(
+                        lambda _e, link=link, box=box: scene.set_link_visible(link, bool(box.value))
+                    )
                     self._link_boxes[link] = box
 
     def show_fixed_frame(self, frame: str) -> None:

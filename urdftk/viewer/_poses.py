@@ -30,13 +30,25 @@ def matrices_to_pose(T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     q = np.empty((len(T), 4))
     # w largest
     s = np.sqrt(np.maximum(1.0 + trace, 1e-300)) * 2.0
-    qw = np.stack([(R[:, 2, 1] - R[:, 1, 2]) / s, (R[:, 0, 2] - R[:, 2, 0]) / s, (R[:, 1, 0] - R[:, 0, 1]) / s, s / 4], 1)
+    qw = np.stack(
+        [(R[:, 2, 1] - R[:, 1, 2]) / s, (R[:, 0, 2] - R[:, 2, 0]) / s, (R[:, 1, 0] - R[:, 0, 1]) / s, s / 4],
+        1,
+    )
     s = np.sqrt(np.maximum(1.0 + m00 - m11 - m22, 1e-300)) * 2.0
-    qx = np.stack([s / 4, (R[:, 0, 1] + R[:, 1, 0]) / s, (R[:, 0, 2] + R[:, 2, 0]) / s, (R[:, 2, 1] - R[:, 1, 2]) / s], 1)
+    qx = np.stack(
+        [s / 4, (R[:, 0, 1] + R[:, 1, 0]) / s, (R[:, 0, 2] + R[:, 2, 0]) / s, (R[:, 2, 1] - R[:, 1, 2]) / s],
+        1,
+    )
     s = np.sqrt(np.maximum(1.0 - m00 + m11 - m22, 1e-300)) * 2.0
-    qy = np.stack([(R[:, 0, 1] + R[:, 1, 0]) / s, s / 4, (R[:, 1, 2] + R[:, 2, 1]) / s, (R[:, 0, 2] - R[:, 2, 0]) / s], 1)
+    qy = np.stack(
+        [(R[:, 0, 1] + R[:, 1, 0]) / s, s / 4, (R[:, 1, 2] + R[:, 2, 1]) / s, (R[:, 0, 2] - R[:, 2, 0]) / s],
+        1,
+    )
     s = np.sqrt(np.maximum(1.0 - m00 - m11 + m22, 1e-300)) * 2.0
-    qz = np.stack([(R[:, 0, 2] + R[:, 2, 0]) / s, (R[:, 1, 2] + R[:, 2, 1]) / s, s / 4, (R[:, 1, 0] - R[:, 0, 1]) / s], 1)
+    qz = np.stack(
+        [(R[:, 0, 2] + R[:, 2, 0]) / s, (R[:, 1, 2] + R[:, 2, 1]) / s, s / 4, (R[:, 1, 0] - R[:, 0, 1]) / s],
+        1,
+    )
     for branch, value in enumerate((qw, qx, qy, qz)):
         sel = k == branch
         q[sel] = value[sel]

@@ -123,7 +123,9 @@ class Scene:
             with b.batch():
                 if (o.show_axes, o.axes_length) != (old.show_axes, old.axes_length):
                     for f in self._order:
-                        b.set_axes(self._paths[f], o.show_axes and self._frame_axes.get(f, True), o.axes_length)
+                        b.set_axes(
+                            self._paths[f], o.show_axes and self._frame_axes.get(f, True), o.axes_length
+                        )
                 if o.show_names != old.show_names:
                     for f in self._order:
                         b.set_visible(self._paths[f] + "/@name", o.show_names)
@@ -167,7 +169,9 @@ class Scene:
     # ------------------------------------------------------------------ markers
     def add_marker(self, marker: Marker) -> None:
         """Add or replace the marker ``(marker.ns, marker.id)``; drawn once its frame is in TF."""
-        items = marker_items(marker, (lambda res: self._load_mesh(res, marker.color)) if self._load_mesh else None)
+        items = marker_items(
+            marker, (lambda res: self._load_mesh(res, marker.color)) if self._load_mesh else None
+        )
         with self._lock, self._backend.batch():
             self._remove_marker_node(marker.key)
             self._markers[marker.key] = marker
@@ -194,9 +198,13 @@ class Scene:
         if node is None:
             return
         if items is None:
-            items = marker_items(marker, (lambda res: self._load_mesh(res, marker.color)) if self._load_mesh else None)
+            items = marker_items(
+                marker, (lambda res: self._load_mesh(res, marker.color)) if self._load_mesh else None
+            )
         b = self._backend
-        b.add_frame(node, np.asarray(marker.position), np.asarray(marker.orientation), show_axes=False, axes_length=0)
+        b.add_frame(
+            node, np.asarray(marker.position), np.asarray(marker.orientation), show_axes=False, axes_length=0
+        )
         for i, item in enumerate(items):
             if item.kind == "mesh":
                 b.add_mesh(f"{node}/{i}", item.part, opacity=marker.color[3])
@@ -330,7 +338,11 @@ class Scene:
         changed = ~np.all(np.abs(new - old) <= _EPS, axis=(1, 2)) & np.all(np.isfinite(new), axis=(1, 2))
         sel = np.flatnonzero(changed)
         idx = rows[sel]
-        moved_t = [self._order[i] for i, k in zip(idx, sel) if not np.allclose(new[k, :3, 3], old[k, :3, 3])]
+        moved_t = [
+            self._order[i]
+            for i, k in zip(idx, sel, strict=True)
+            if not np.allclose(new[k, :3, 3], old[k, :3, 3])
+        ]
         self._local[idx] = new[sel]
         if len(idx):
             pos, quat = matrices_to_pose(new[sel])

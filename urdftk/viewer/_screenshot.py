@@ -38,12 +38,20 @@ def chromium_path() -> str:
     """
     found = os.environ.get("URDFTK_CHROMIUM") or shutil.which("chromium") or shutil.which("chromium-browser")
     if not found:
-        raise FileNotFoundError("no chromium found for --screenshot; install it (Debian: apt install chromium)")
+        raise FileNotFoundError(
+            "no chromium found for --screenshot; install it (Debian: apt install chromium)"
+        )
     return found
 
 
 def screenshot(
-    url: str, *, width: int = 1280, height: int = 800, timeout: float = 60.0, settle: float = 0.5, min_wait: float = 2.0
+    url: str,
+    *,
+    width: int = 1280,
+    height: int = 800,
+    timeout: float = 60.0,
+    settle: float = 0.5,
+    min_wait: float = 2.0,
 ) -> bytes:
     """Open ``url`` in headless Chromium and return a PNG of the page.
 
@@ -61,7 +69,9 @@ def screenshot(
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
-        raise FileNotFoundError("--screenshot needs Playwright: pip install playwright (no browser download)") from None
+        raise FileNotFoundError(
+            "--screenshot needs Playwright: pip install playwright (no browser download)"
+        ) from None
 
     with tempfile.TemporaryDirectory(prefix="urdftk-chromium-") as profile, sync_playwright() as pw:
         context = pw.chromium.launch_persistent_context(

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from urdftk.viewer._geometry import GeometryLoader, MeshPart
+from urdftk.viewer._geometry import GeometryLoader
 from urdftk.viewer._markers import Marker
 from urdftk.viewer._scene import Scene
 
@@ -87,12 +87,14 @@ class Viewer:
             from urdftk.viewer._meshcat_backend import MeshcatBackend
 
             self._backend = MeshcatBackend(host, port)
-        self.scene = Scene(self._backend, fixed_frame or robot.root_link, load_mesh=self._marker_mesh)
+        self.scene = Scene(self._backend, fixed_frame or robot.root_link, load_mesh=self._loader.mesh_parts)
         self._panel: Any = None
         if backend == "viser":
             from urdftk.viewer._panel import Panel
 
-            self._panel = Panel(self._backend.server, self.scene, self._from_panel, self.set_fixed_frame, listen=listen)
+            self._panel = Panel(
+                self._backend.server, self.scene, self._from_panel, self.set_fixed_frame, listen=listen
+            )
         self._set_geometry(robot)
         self._listener = tf.TransformListener(self.buffer, self.transport)
         self._subs = [
@@ -102,7 +104,9 @@ class Viewer:
         self._state_pub: Any = None
         self._js_pub: Any = None
         if listen:
-            self._subs.append(self.transport.subscribe(TOPIC_JOINT_STATES, tf.JointState, self._on_joint_state))
+            self._subs.append(
+                self.transport.subscribe(TOPIC_JOINT_STATES, tf.JointState, self._on_joint_state)
+            )
         else:
             self._state_pub = self._make_state_publisher(robot)
         if self._panel is not None:
@@ -137,17 +141,19 @@ class Viewer:
 
     def joint_values(self) -> dict[str, float]:
         """The current independent joint values, by name."""
-        return {n: float(v) for n, v in zip(self._robot.joint_names, self._q)}
+        return {n: float(v) for n, v in zip(self._robot.joint_names, self._q, strict=True)}
 
     def set_joint_positions(self, q: Mapping[str, float] | Sequence[float] | np.ndarray) -> None:
         """Set joint values (a dict by name, or an array in ``robot.joint_names`` order) and publish them."""
         if self.listen:
-            raise ValueError("the viewer is listening to /joint_states; publish joint states on the transport")
+            raise ValueError(
+                "the viewer is listening to /joint_states; publish joint states on the transport"
+            )
         with self._lock:
             if isinstance(q, Mapping):
                 q = {**self.joint_values(), **q}
             old, self._q = self._q, self._robot.q(q)
-            moved = [n for n, a, b in zip(self._robot.joint_names, old, self._q) if a != b]
+            moved = [n for n, a, b in zip(self._robot.joint_names, old, self._q, strict=True) if a != b]
         if self._panel is not None:
             self._panel.show_values({n: v for n, v in self.joint_values().items() if n in moved})
         self._publish(moved)
@@ -241,8 +247,6 @@ class Viewer:
 
     # ------------------------------------------------------------------ internals
     def _make_state_publisher(self, robot: Any) -> Any:
-        import tf
-        from tf.transport import TOPIC_JOINT_STATES
         from urdftk.joint_state import JointStatePublisher
         from urdftk.robot_state import RobotStatePublisher
 
@@ -273,25 +277,18 @@ class Viewer:
             if link in index:
                 for part in geom.parts:
                     lo, hi = part.vertices.min(axis=0), part.vertices.max(axis=0)
-                    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+                    corners = np.array(
+                        [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+                    )
                     points.extend(corners @ T[index[link], :3, :3].T + T[index[link], :3, 3])
         pts = np.asarray(points)
         lo, hi = pts.min(axis=0), pts.max(axis=0)
         self._backend.frame_camera((lo + hi) / 2, float(np.linalg.norm(hi - lo)) / 2)
 
-    def _marker_mesh(self, resource: str, rgba: tuple[float, float, float, float]) -> list[MeshPart]:
-        from urdftk.viewer._geometry import _own_colour
-
-        parts = []
-        for verts, faces, mesh in self._loader._mesh_file(self._loader.resolve(resource)):
-            own, colors = _own_colour(mesh)
-            parts.append(MeshPart(verts, faces, own or rgba, colors))
-        return parts
-
     def _from_panel(self, values: dict[str, float]) -> None:
         with self._lock:
             old, self._q = self._q, self._robot.q({**self.joint_values(), **values})
-            moved = [n for n, a, b in zip(self._robot.joint_names, old, self._q) if a != b]
+            moved = [n for n, a, b in zip(self._robot.joint_names, old, self._q, strict=True) if a != b]
         self._publish(moved)
 
     def _publish(self, names: Sequence[str] | None = None) -> None:
@@ -308,7 +305,7 @@ class Viewer:
 
     def _on_joint_state(self, msg: Any) -> None:
         known = set(self._robot.joint_names)
-        values = {n: p for n, p in zip(msg.name, msg.position) if n in known}
+        values = {n: p for n, p in zip(msg.name, msg.position, strict=False) if n in known}
         if values:
             with self._lock:
                 self._q = self._robot.q({**self.joint_values(), **values})

@@ -16,9 +16,9 @@ __all__ = ["ViserBackend"]
 
 def _rgb255(rgb: Sequence[float]) -> tuple[int, int, int]:
     return (
-        int(round(255 * min(max(rgb[0], 0.0), 1.0))),
-        int(round(255 * min(max(rgb[1], 0.0), 1.0))),
-        int(round(255 * min(max(rgb[2], 0.0), 1.0))),
+        round(255 * min(max(rgb[0], 0.0), 1.0)),
+        round(255 * min(max(rgb[1], 0.0), 1.0)),
+        round(255 * min(max(rgb[2], 0.0), 1.0)),
     )
 
 
@@ -46,7 +46,9 @@ class ViserBackend(SceneBackend):
         # a hemisphere light plus viser's default lights shows colours as faithfully.
         scene.configure_environment_map(None)
         scene.configure_default_lights(True, cast_shadow=False)
-        scene.add_light_hemisphere("/lights/hemisphere", sky_color=(255, 255, 255), ground_color=(90, 90, 90), intensity=1.2)
+        scene.add_light_hemisphere(
+            "/lights/hemisphere", sky_color=(255, 255, 255), ground_color=(90, 90, 90), intensity=1.2
+        )
 
     @property
     def url(self) -> str:
@@ -100,7 +102,7 @@ class ViserBackend(SceneBackend):
         wxyz[:, 0] = xyzw[:, 3]
         wxyz[:, 1:] = xyzw[:, :3]
         handles = self._handles
-        for name, p, q in zip(names, positions, wxyz):
+        for name, p, q in zip(names, positions, wxyz, strict=True):
             h = handles.get(name)
             if h is not None:
                 h.position = p  # type: ignore[attr-defined]
@@ -155,7 +157,13 @@ class ViserBackend(SceneBackend):
         self._put(name, self.server.scene.add_label(name, text, visible=visible, font_screen_scale=0.8))
 
     def add_lines(
-        self, name: str, segments: np.ndarray, rgb: tuple[float, float, float], *, width: float, visible: bool = True
+        self,
+        name: str,
+        segments: np.ndarray,
+        rgb: tuple[float, float, float],
+        *,
+        width: float,
+        visible: bool = True,
     ) -> None:
         """Add line segments (width in metres)."""
         self._put(
@@ -173,7 +181,8 @@ class ViserBackend(SceneBackend):
     def add_grid(self, name: str, *, size: float, cell: float) -> None:
         """Add the ground grid."""
         self._put(
-            name, self.server.scene.add_grid(name, width=size, height=size, cell_size=cell, section_size=4 * cell)
+            name,
+            self.server.scene.add_grid(name, width=size, height=size, cell_size=cell, section_size=4 * cell),
         )
 
     def set_visible(self, name: str, visible: bool) -> None:

@@ -32,6 +32,20 @@ def _plan(expr: str) -> tuple[str | None, Any]:
     return None, compile_expr(e)
 
 
+def _read_bytes(path: str) -> bytes:
+    """A file's bytes (plain os calls: much cheaper than ``open()`` for many small files)."""
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        chunks = []
+        while True:
+            chunk = os.read(fd, 1 << 20)
+            if not chunk:
+                return b"".join(chunks)
+            chunks.append(chunk)
+    finally:
+        os.close(fd)
+
+
 class IncludeIOError(XacroError):
     """A file could not be read (an optional include skips it)."""
 
@@ -90,6 +104,7 @@ class Context:
         self.macro_stack: list[tuple[Any, Any]] = []  # (Macro, call element)
         self.includes: list[str] = []  # every file read after the input, in order
         self._eval_scope: EvalScope | None = None
+        self._yaml: dict[str, Any] = {}  # yaml text -> loaded data (files without unit tags)
         self.root: dict[str, Any] = {}
 
     # -- messages ---------------------------------------------------------------------------
@@ -137,8 +152,7 @@ class Context:
         """Read a file as UTF-8 text; IncludeIOError when it cannot be read."""
         path = self.open_path(name)
         try:
-            with open(path, "rb") as fh:
-                data = fh.read()
+            data = _read_bytes(path)
         except OSError as e:
             msg = f"{e.strerror or e}: {name}"
             folder = os.path.dirname(path) or "."
@@ -190,13 +204,18 @@ class Context:
 
     def load_yaml(self, filename: str) -> Any:
         """``xacro.load_yaml(file)``, relative to the file being processed."""
-        from urdftk.xacro._yaml import load_yaml_text
+        from urdftk.xacro._yaml import UNITS, copy_data, load_yaml_text
 
         name = self.abs_filename(filename)
         text = self.read_text(name)
         self.files.append(name)
         try:
-            return load_yaml_text(text, self.eval_global, name)
+            if any(tag in text for tag in UNITS):  # unit tags evaluate expressions: load every time
+                return load_yaml_text(text, self.eval_global, name)
+            data = self._yaml.get(text)
+            if data is None:  # plain data: parse once per expansion, hand out copies
+                data = self._yaml[text] = load_yaml_text(text, self.eval_global, name)
+            return copy_data(data)
         finally:
             self.files.pop()
             self.includes.append(name)

@@ -76,14 +76,21 @@ class Macro:
         size: Node count of the body.
     """
 
-    __slots__ = ("body", "def_file", "defaults", "name", "params", "size")
+    __slots__ = ("_size", "body", "def_file", "defaults", "name", "params")
 
     def __init__(self, name: str, body: Element, params: str, def_file: str | None):
         self.name = name
         self.body = body
         self.params, self.defaults = parse_params(params)
         self.def_file = def_file
-        self.size = mark_static(body)
+        self._size: int | None = None
+
+    @property
+    def size(self) -> int:
+        """Node count of the body; the body is marked for sharing on first use (many are never called)."""
+        if self._size is None:
+            self._size = mark_static(self.body)
+        return self._size
 
 
 def resolve_macro(fullname: str, macros: Any, symbols: Any) -> tuple[Any, Any, Any]:

@@ -14,7 +14,7 @@ from urdftk.xacro._macros import Macro, first_element, resolve_macro
 from urdftk.xacro._scope import Scope
 from urdftk.xacro._symbols import make_root
 from urdftk.xacro._tags import MAX_DEPTH, MAX_NODES, Tags, attrs_of, is_valid_name, to_bool
-from urdftk.xacro._tree import Comment, Element, Text, XmlSyntaxError, clone
+from urdftk.xacro._tree import Comment, Element, Text, XmlSyntaxError, copy_shallow
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -110,21 +110,23 @@ class Expander(Tags):
                 if "$" in v or k[:6] == "xacro:" or k == "xmlns:xacro":
                     self._eval_attrs(node, symbols)
                     break
-        if node.children:
+        if node.children and not node.fixed:
             self.eval_children(node, macros, symbols)
 
     def _eval_attrs(self, node: Element, symbols: Scope) -> None:
         new = {}
-        for k, v in node.attrs.items():
-            if k[:6] == "xacro:":
-                continue
-            if "$" in v:
-                try:
-                    v = str(self.eval_text(v, symbols))
-                except XacroError as e:
-                    self._locate(e, node.file, node.line)
-                    raise
-            new[k] = v
+        try:
+            for k, v in node.attrs.items():
+                if k[:6] == "xacro:":
+                    continue
+                if "$" in v:
+                    v = self.eval_text(v, symbols)
+                    if v.__class__ is not str:
+                        v = str(v)
+                new[k] = v
+        except XacroError as e:
+            self._locate(e, node.file, node.line)
+            raise
         new.pop("xmlns:xacro", None)
         node.attrs = new
 
@@ -148,11 +150,13 @@ class Expander(Tags):
                     continue
                 if cls is Element:
                     eval_comments = False
-                    tag = node.tag
-                    if tag[:6] != "xacro:":
+                    if node.shared:  # part of a macro body: skip it if static, else copy it first
                         if node.static:
                             i += 1
                             continue
+                        node = children[i] = copy_shallow(node)
+                    tag = node.tag
+                    if tag[:6] != "xacro:":
                         self.eval_all(node, macros, symbols)
                         # nested edits can only take the shared blank node out of this list
                         if i >= len(children) or children[i] is not node:
@@ -230,7 +234,7 @@ class Expander(Tags):
         self._budget(m.size)
         if len(self.macro_stack) >= MAX_DEPTH:
             raise XacroError(self._cycle_message(m))
-        body = clone(m.body)
+        body = copy_shallow(m.body)  # the walk copies the rest as it goes
         self.macro_stack.append((m, node))
         local = Scope(scoped_symbols)
         local_macros = Scope(scoped_macros)

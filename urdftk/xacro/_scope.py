@@ -7,6 +7,8 @@ value is text is stored unevaluated and evaluated at its first use, in the scope
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 from urdftk.errors import XacroError
 
 TYPE_CHECKING = False
@@ -16,6 +18,7 @@ if TYPE_CHECKING:
 __all__ = ["NameSpace", "Scope", "literal"]
 
 _NO_BUILTINS: dict[str, Any] = {}  # eval() finds no builtins through a scope
+_MISSING = object()
 _FLOAT_WORDS = frozenset({"inf", "infinity", "nan"})
 _WS = (" ", "\t", "\n", "\r")
 
@@ -28,6 +31,17 @@ def literal(value: Any) -> Any:
     """
     if value.__class__ is not str:
         return value
+    if len(value) <= 200:
+        return _literal_text(value)
+    return _convert(value)
+
+
+@lru_cache(maxsize=8192)
+def _literal_text(value: str) -> Any:
+    return _convert(value)
+
+
+def _convert(value: str) -> Any:
     n = len(value)
     if n >= 2 and value[0] == "'" and value[-1] == "'":
         return value[1:-1]
@@ -79,9 +93,16 @@ class Scope(dict):
         self.recursive: list[str] = []
 
     def __missing__(self, key: str) -> Any:
-        if self.lazy and key in self.lazy:
-            return self._resolve(key)
-        return self.parent[key]
+        t = self
+        while True:  # up the chain in one call (deep macro nesting makes long chains)
+            if t.lazy and key in t.lazy:
+                return t._resolve(key)
+            t = t.parent
+            if not isinstance(t, Scope):
+                return t[key]  # the root
+            value = dict.get(t, key, _MISSING)
+            if value is not _MISSING:
+                return value
 
     def _resolve(self, key: str) -> Any:
         if key in self.recursive:

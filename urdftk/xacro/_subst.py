@@ -25,6 +25,14 @@ COMMANDS = ("find", "env", "optenv", "dirname", "arg")
 
 def collect(text: str) -> list[str]:
     """Return the insides of the ``$(...)`` groups of ``text`` (no nesting, no escapes)."""
+    n = text.count("$(")
+    if text.count("$") == n and text.count("(") == n:
+        # every '$' and '(' opens a group: unless a group is left open before the next one
+        # (an error, reported by the scan below), split instead of scanning
+        segs = text.split("$(")[1:]
+        ends = [seg.find(")") for seg in segs]
+        if -1 not in ends[:-1]:
+            return [seg[:end] for seg, end in zip(segs, ends, strict=True) if end > 0]
     out: list[str] = []
     buf: list[str] = []
     state = 0  # 0 outside, 1 after '$', 2 after '$(', 3 inside

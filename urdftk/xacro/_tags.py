@@ -54,8 +54,14 @@ def is_valid_name(name: Any) -> bool:
 
 
 def index_of(children: list, node: Any, hint: int = 0) -> int:
+    """Index of ``node`` (an element or the blank node: compared by identity), looked for near ``hint``."""
     if 0 <= hint < len(children) and children[hint] is node:
         return hint
+    if hint > 4:
+        try:
+            return children.index(node, hint - 4)
+        except ValueError:
+            pass
     return children.index(node)
 
 
@@ -131,9 +137,14 @@ class Tags(Context):
             empty = self.empty
             if nxt is not None and nxt is not empty:
                 old = empty.parent
-                if old is not None:
+                if old is parent:  # usually just before node: keep i right without a search
+                    k = index_of(children, empty, i - 1)
+                    del children[k]
+                    if k < i:
+                        i -= 1
+                elif old is not None:
                     old.children.remove(empty)
-                children.insert(index_of(children, node, i) + 1, empty)
+                children.insert(i + 1, empty)
                 empty.parent = parent
             self.hint = i
             return
@@ -188,10 +199,10 @@ class Tags(Context):
         hint = self.hint
         for name in names:
             self.includes.append(name)
-            self._check_include_cycle(name)
+            key = self._check_include_cycle(name)
             self.files.append(name)
             self.include_sites.append(node)
-            self.include_keys.append(os.path.normpath(os.path.abspath(self.open_path(name))))
+            self.include_keys.append(key)
             try:
                 _, root = self.parse_file(name)
             except IncludeIOError:
@@ -211,7 +222,7 @@ class Tags(Context):
         self._drop_comments(parent, node)
         self._replace(parent, node, roots)
 
-    def _check_include_cycle(self, name: str) -> None:
+    def _check_include_cycle(self, name: str) -> str:
         key = os.path.normpath(os.path.abspath(self.open_path(name)))
         stack = self.include_keys
         if key in stack:
@@ -220,6 +231,7 @@ class Tags(Context):
             raise XacroError(f"include cycle: {chain}")
         if len(stack) >= MAX_DEPTH:
             raise XacroError(f"includes nested more than {MAX_DEPTH} deep")
+        return key
 
     def _import_namespaces(self, parent: Element, attrs: dict[str, str]) -> None:
         for k, v in attrs.items():

@@ -23,6 +23,7 @@ __all__ = [
     "Text",
     "XmlSyntaxError",
     "clone",
+    "copy_shallow",
     "mark_static",
     "parse_xml",
 ]
@@ -52,9 +53,13 @@ class Element:
 
     ``static`` marks a subtree of a macro body that evaluation cannot change (no ``$``, no xacro
     tag or attribute, no comment that could be evaluated): it is shared, not copied, and skipped.
+    ``fixed`` marks an element of a macro body whose children are all static (its attributes may
+    not be): copies share its child list, and evaluation skips the children. ``shared`` marks
+    every element of a macro body: the walk never edits one, it copies it first (one level at a
+    time, as it descends: see :func:`copy_shallow`).
     """
 
-    __slots__ = ("attrs", "children", "file", "line", "static", "tag")
+    __slots__ = ("attrs", "children", "file", "fixed", "line", "shared", "static", "tag")
 
     def __init__(self, tag: str, attrs: dict[str, str], line: int = 0, file: str | None = None):
         self.tag = tag
@@ -63,6 +68,8 @@ class Element:
         self.line = line
         self.file = file
         self.static = False
+        self.fixed = False
+        self.shared = False
 
     def __repr__(self) -> str:
         return f"<Element {self.tag} at line {self.line}>"
@@ -107,10 +114,31 @@ class PI:
         self.data = data
 
 
+def copy_shallow(el: Element) -> Element:
+    """Copy an element and its child list, not the children (the walk copies those it edits).
+
+    The child list of a ``fixed`` element is shared, as nothing ever edits it.
+
+    Args:
+        el: The element (usually a ``shared`` one).
+
+    Returns:
+        The copy (not ``shared``).
+    """
+    new = Element(el.tag, el.attrs, el.line, el.file)
+    if el.fixed:
+        new.children = el.children
+        new.fixed = True
+    else:
+        new.children = el.children.copy()
+    return new
+
+
 def clone(el: Element) -> Element:
     """Deep-copy an element: new elements and lists; text, comments and attribute dicts are shared.
 
-    Shared parts are never mutated in place (edits replace them in their list).
+    Shared parts are never mutated in place (edits replace them in their list); static subtrees
+    and the child lists of ``fixed`` elements are shared too.
 
     Args:
         el: The element to copy.
@@ -119,37 +147,50 @@ def clone(el: Element) -> Element:
         The copy.
     """
     new = Element(el.tag, el.attrs, el.line, el.file)
-    new.children = [_copy(c) if c.__class__ is Element or c.__class__ is Text else c for c in el.children]
+    if el.fixed:  # nothing ever edits this list: share it
+        new.children = el.children
+        new.fixed = True
+        return new
+    kids = new.children
+    for c in el.children:
+        cls = c.__class__
+        if cls is Element:
+            if not c.static:
+                c = clone(c)
+        elif cls is Text:
+            c = c.data
+        kids.append(c)
     return new
 
 
-def _copy(c):
-    if c.__class__ is Text:
-        return c.data
-    if c.static:
-        return c
-    return clone(c)
-
-
 def mark_static(el: Element) -> int:
-    """Set ``static`` on every element below ``el`` (and ``el``); return the subtree's node count."""
+    """Set ``static`` and ``fixed`` below ``el`` (and on ``el``); return the subtree's node count."""
     size = 1
-    static = el.tag[:6] != "xacro:" and not any(
-        "$" in v or k[:6] == "xacro:" or k == "xmlns:xacro" for k, v in el.attrs.items()
+    attrs = el.attrs
+    # conservative: any attribute name containing "xacro" (xacro:*, xmlns:xacro) counts as dynamic
+    plain = el.tag[:6] != "xacro:" and (
+        not attrs or ("$" not in "".join(attrs.values()) and "xacro" not in " ".join(attrs))
     )
+    fixed = True
     for c in el.children:
         cls = c.__class__
         if cls is Element:
             size += mark_static(c)
-            static = static and c.static
+            if not c.static:
+                fixed = False
             continue
+        size += 1
         if cls is str:
             if "$" in c:
-                static = False
-        elif cls is Comment and ("$" in c.data or "xacro:eval-comments" in c.data):
-            static = False
-        size += 1
-    el.static = static
+                fixed = False
+        elif cls is Comment:
+            if "$" in c.data or "xacro:eval-comments" in c.data:
+                fixed = False
+        elif cls is Text:
+            fixed = False
+    el.fixed = fixed
+    el.static = plain and fixed
+    el.shared = True
     return size
 
 

@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     from collections.abc import Callable
     from typing import Any
 
-__all__ = ["UNITS", "YamlDict", "YamlList", "load_yaml_text", "wrap"]
+__all__ = ["UNITS", "YamlDict", "YamlList", "copy_data", "load_yaml_text", "wrap"]
 
 #: tag -> factor to SI (radians, meters)
 UNITS = {
@@ -59,6 +59,38 @@ class YamlDict(dict):
             raise AttributeError(f"The yaml dictionary has no key '{item}'") from None
 
     __getitem__ = __getattr__
+
+
+_ATOMS = frozenset({str, int, float, bool, type(None), bytes})
+
+
+def copy_data(item: Any, memo: dict[int, Any] | None = None) -> Any:
+    """Deep-copy loaded yaml (keeping the sharing that yaml aliases create), fast for plain data.
+
+    Args:
+        item: A value returned by :func:`load_yaml_text`.
+        memo: Copies made so far, by ``id`` of the original.
+    """
+    cls = item.__class__
+    if cls in _ATOMS:
+        return item
+    if memo is None:
+        memo = {}
+    done = memo.get(id(item))
+    if done is not None:
+        return done
+    if cls is dict or cls is YamlDict:
+        new = memo[id(item)] = cls()
+        for k, v in dict.items(item):
+            new[k] = copy_data(v, memo)
+        return new
+    if cls is list or cls is YamlList:
+        new = memo[id(item)] = cls()
+        new.extend([copy_data(v, memo) for v in list.__iter__(item)])
+        return new
+    import copy
+
+    return copy.deepcopy(item, memo)
 
 
 def load_yaml_text(stream: Any, evaluate: Callable[[str], Any], filename: str) -> Any:
