@@ -184,8 +184,11 @@ def test_no_meshes_skips_loading_but_not_existence():
 
 def test_bad_uri_three_slashes_says_how_to_fix():
     report = check(BAD / "bad_uri.urdf")
-    assert "write 'package://pkg/meshes/a.stl'" in report.findings[0].message
-    assert "http://" in report.findings[1].message
+    by_code = {f.code: f for f in report.findings if f.line == 5}
+    assert by_code["bad-uri"].severity == "warning"
+    assert "write 'package://pkg/meshes/a.stl'" in by_code["bad-uri"].message
+    assert "'pkg' not found" in by_code["package-not-found"].message
+    assert any("http://" in f.message for f in report.findings if f.line == 6)
 
 
 # --- the command line -----------------------------------------------------------------------------

@@ -120,8 +120,9 @@ def fk_numpy(
         for i in (int(k) for k in order):
             p = int(struct.parent[i])
             Rp, tp = (root_R, root_t) if p < 0 else kept[p]
-            a = angle_row.get(i, 0)
-            R, t = _link_block(struct, i, consts[i], Rp, tp, Qb, sin[a], one_minus_cos[a])
+            a = angle_row.get(i)
+            trig = (None, None) if a is None else (sin[a], one_minus_cos[a])
+            R, t = _link_block(struct, i, consts[i], Rp, tp, Qb, *trig)
             if p >= 0:
                 left[p] -= 1
                 if left[p] == 0:

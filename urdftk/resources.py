@@ -252,8 +252,8 @@ class PackageResolver:
         """Resolve a resource reference to a filesystem path (existence is not checked).
 
         Args:
-            uri: ``package://pkg/rel``, ``file:///abs``, ``file://rel``, an absolute path or a
-                path relative to ``relative_to``.
+            uri: ``package://pkg/rel`` (``package:///pkg/rel`` is accepted), ``file:///abs``,
+                ``file://rel``, an absolute path or a path relative to ``relative_to``.
             relative_to: Folder (or file, whose folder is used) for relative references;
                 defaults to the source file's folder, then the current directory.
 
@@ -268,7 +268,9 @@ class PackageResolver:
         if not text:
             raise ResourceError("empty resource reference")
         if text.startswith("package://"):
-            rest = text[len("package://") :]
+            # 'package:///pkg/x' (three slashes, seen in real files) is read as 'package://pkg/x';
+            # `urdftk check` warns about it.
+            rest = text[len("package://") :].lstrip("/")
             pkg, _, rel = rest.partition("/")
             if not pkg:
                 raise ResourceError(f"'{uri}' names no package")

@@ -57,11 +57,7 @@ class _Checker:
             message = str(exc) if first == line else f"package '{exc.package}' not found (see line {first})"
             return [Finding(missing, "package-not-found", where, line, f"{uri}: {message}")]
         except ResourceError as exc:
-            message = str(exc)
-            if uri.startswith("package:///"):
-                fixed = "package://" + uri[len("package:///") :]
-                message = f"'{uri}' has three slashes, so its package name is empty; write '{fixed}'"
-            return [Finding(missing, "bad-uri", where, line, message)]
+            return [Finding(missing, "bad-uri", where, line, str(exc))]
         if not path.exists():
             return [Finding(missing, f"{kind}-not-found", where, line, f"{uri}: file {path} does not exist")]
         if not path.is_file():
@@ -96,6 +92,11 @@ def lint(ctx: Context) -> list[Finding]:
     checker = _Checker(ctx)
     out: list[Finding] = []
     for el in ctx.root.iter("mesh", "texture"):
+        uri = (el.get("filename") or "").strip()
+        if uri.startswith("package:///"):
+            fixed = "package://" + uri[len("package://") :].lstrip("/")
+            message = f"'{uri}' has three slashes (an empty package name in ROS); write '{fixed}'"
+            out.append(Finding("warning", "bad-uri", describe(el), el.sourceline, message))
         if el.tag == "mesh":
             owner = el.getparent().getparent() if el.getparent() is not None else None
             if el.getparent().tag != "geometry" or owner is None or owner.tag not in ("visual", "collision"):

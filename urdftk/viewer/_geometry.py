@@ -148,9 +148,7 @@ class GeometryLoader:
         self._base = Path(source).parent if source else Path.cwd()
 
     def resolve(self, filename: str) -> Path:
-        """Turn a mesh reference into a path (``package:///pkg/..`` is read as ``package://pkg/..``)."""
-        if filename.startswith("package:///"):
-            filename = "package://" + filename[len("package:///") :]
+        """Turn a mesh reference into a path."""
         return Path(self._resolver.resolve(filename, relative_to=self._base))
 
     def _mesh_file(self, path: Path) -> list[tuple[np.ndarray, np.ndarray, Any]]:
