@@ -8,6 +8,10 @@ Run: ``python bench/fk.py [--n 100000]``. Prints, for Panda and Talos (example-r
   collecting every link through ``.homogeneous``;
 * ``fk_batch`` throughput (numba and numpy backends, float64 and float32) vs the Pinocchio Python loop
   (compute only) and pytorch_kinematics on CPU with one thread.
+
+Times are the best of several rounds of process CPU time (``time.process_time``): everything measured
+is single-threaded, and CPU time does not count the time a loaded machine keeps the process waiting,
+so ratios measured in the same run stay meaningful on a shared machine.
 """
 
 from __future__ import annotations
@@ -25,13 +29,13 @@ from urdftk.resources import PackageResolver
 
 
 def best_of(fn, repeat: int = 5, number: int = 1) -> float:
-    """Best time per call (seconds) over ``repeat`` rounds of ``number`` calls."""
+    """Best CPU time per call (seconds) over ``repeat`` rounds of ``number`` calls."""
     best = float("inf")
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         for _ in range(number):
             fn()
-        best = min(best, (time.perf_counter() - t0) / number)
+        best = min(best, (time.process_time() - t0) / number)
     return best
 
 
@@ -87,7 +91,7 @@ def bench_batch(robot, path, n: int) -> None:
         for pq in pqs:
             pin.framesForwardKinematics(model, data, pq)
 
-    pin_rate = len(pqs) / best_of(pin_loop, repeat=3)
+    pin_rate = len(pqs) / best_of(pin_loop, repeat=5)
     print(
         f"  pinocchio python loop (framesForwardKinematics, compute only): {pin_rate / 1e3:8.0f} k configs/s"
     )
@@ -99,7 +103,7 @@ def bench_batch(robot, path, n: int) -> None:
             out = np.zeros((n, len(robot.link_names), 4, 4), dtype=dt)
             t = best_of(
                 lambda dt=dt, out=out, be=backend: robot.fk_batch(Q, dtype=dt, out=out, backend=be),
-                repeat=3 if backend == "numba" else 1,
+                repeat=5 if backend == "numba" else 2,
             )
             rates[(backend, dt)] = n / t
             print(

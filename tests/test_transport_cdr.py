@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import random
 import struct
@@ -286,3 +287,51 @@ def test_keys_tokens_and_attachment() -> None:
     att = _keys.unpack_attachment(raw)
     assert att == _keys.Attachment(12, 1_700_000_000_123_456_789, gid)
     assert _keys.unpack_attachment(raw[:-1]) is None and _keys.unpack_attachment(None) is None
+
+
+def _assert_plain_instance(got: TransformStamped, want: TransformStamped) -> None:
+    assert type(got) is TransformStamped and type(got.header) is Header and type(got.header.stamp) is Time
+    assert type(got.transform) is Transform
+    assert type(got.transform.translation) is Vector3 and type(got.transform.rotation) is Quaternion
+    assert got == want and hash(got) == hash(want) and repr(got) == repr(want)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        got.transform.rotation.w = 0.5  # type: ignore[misc]
+    assert dataclasses.replace(got, child_frame_id="other").transform is got.transform
+
+
+def test_decoded_messages_are_ordinary_instances_and_check_agrees_with_decode() -> None:
+    rng = random.Random(11)
+    for _ in range(60):
+        msg = _rand_tf(rng)
+        data = _cdr.encode(msg)
+        for _path in ("field by field", "cached layout"):
+            back = _cdr.decode(TFMessage, data)
+            assert type(back) is TFMessage and type(back.transforms) is tuple
+            for got, want in zip(back.transforms, msg.transforms, strict=True):
+                _assert_plain_instance(got, want)
+            assert _cdr.check(TFMessage, data) is None
+    # Payloads that decode rejects, also on the cached-layout path, are rejected by check too.
+    msg = TFMessage([TransformStamped(Header(Time(5, 6), "a"), "b", Transform()) for _ in range(3)])
+    data = _cdr.encode(msg)
+    _cdr.decode(TFMessage, data)  # caches the layout
+    negative = bytearray(data)
+    negative[8:12] = struct.pack("<i", -3)
+    big_ns = bytearray(data)
+    big_ns[12:16] = struct.pack("<I", 1_000_000_000)
+    renamed = data.replace(b"a\x00", b"c\x00")
+    bad_pad = bytearray(data)
+    bad_pad[8 + 8 + 4 + 2] = 7  # padding after "a\0": ignored by the field-by-field parser
+    for payload in (bytes(negative), bytes(big_ns), renamed, bytes(bad_pad), data[:-8], data + b"\x01"):
+        try:
+            expected = _cdr.decode(TFMessage, payload)
+        except _cdr.CdrError:
+            with pytest.raises(_cdr.CdrError):
+                _cdr.check(TFMessage, payload)
+            with pytest.raises(_cdr.CdrError):
+                _cdr.check(TFMessage, payload)  # and again once a layout may be cached
+        else:
+            assert _cdr.check(TFMessage, payload) is None
+            assert _cdr.decode(TFMessage, payload) == expected
+    assert _cdr.decode(TFMessage, renamed).transforms[0].header.frame_id == "c"
+    with pytest.raises(_cdr.CdrError):
+        _cdr.check(JointState, b"\x00\x01\x00\x00junk")

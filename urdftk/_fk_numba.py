@@ -1,17 +1,18 @@
 """Optional compiled FK kernels (numba), used when numba is installed (``urdftk[fast]``).
 
 Every kernel composes ``T_root_link = T_root_parent @ T_origin @ J(q)`` in float64, link by link in
-depth-first order, reading the structure packed by :func:`pack` into two arrays (few arguments make
-the call from Python cheap):
+depth-first order, reading the structure packed by :func:`pack` into one array (few arguments make
+calls from Python cheap):
 
-* :func:`fk_batch_kernel` works on blocks of configurations in structure-of-arrays layout (the loops
-  over a block vectorize), transposes each block into a cache-resident staging buffer and copies it
-  out in one sequential pass, storing the requested dtype;
-* :func:`fk_one_all` and :func:`fk_one_link` are scalar single-configuration kernels for
-  :meth:`urdftk.Robot.fk` and :meth:`urdftk.Robot.frame_pose`; they also check that the
-  configuration is finite.
+* :func:`fk_one_all` and :func:`fk_one_link`: one configuration, scalar code without heap
+  allocations, behind :meth:`urdftk.Robot.fk` and :meth:`urdftk.Robot.frame_pose` (they also check
+  the configuration's length and finiteness);
+* :func:`fk_batch_kernel`: blocks of configurations in structure-of-arrays layout (its loops over a
+  block vectorize), each block transposed into a cache-resident staging buffer and copied out in one
+  sequential pass, in the requested dtype.
 
-They are compiled on first use and cached on disk by numba (``cache=True``).
+Kernels are cached on disk by numba (``cache=True``). Numba's cache only notices changes to this
+file, so every kernel and helper lives here, with its own joint type codes (:func:`pack` maps them).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ import math
 import numba
 import numpy as np
 
-from urdftk._structure import FLOATING, PLANAR, PRISMATIC, REVOLUTE, KinematicStructure
+from urdftk import _structure as st
 
 __all__ = [
     "BAD_SHAPE",
@@ -50,9 +51,12 @@ _C4, _C5, _C6 = -2.75573143513906633035e-07, 2.08757232129817482790e-09, -1.1359
 _F_MULT, _F_OFF, _F_ROT, _F_TRANS, _F_RK, _F_RK2, _F_DIRN = 0, 1, 2, 11, 14, 23, 32
 _I_PARENT, _I_TYPE, _I_COORD, _I_NCOORDS = 35, 36, 37, 38
 _WIDTH = 39
+_MAX_BLOCK = 128
+_FIXED, _REVOLUTE, _PRISMATIC, _FLOATING, _PLANAR = 0, 1, 2, 3, 4  # the kernels' joint codes
+_CODES = {st.FIXED: _FIXED, st.REVOLUTE: _REVOLUTE, st.PRISMATIC: _PRISMATIC}
+_CODES.update({st.FLOATING: _FLOATING, st.PLANAR: _PLANAR})
 OK, NOT_FINITE, BAD_SHAPE = 0, 1, 2
 """Status codes of the single-configuration kernels."""
-_MAX_BLOCK = 128
 
 
 @numba.njit(cache=True, nogil=True, boundscheck=False, inline="always")
@@ -70,14 +74,6 @@ def _sincos_poly(v):
     return (-a if (quad & 2) == 2 else a), (-b if ((quad + 1) & 2) == 2 else b)
 
 
-@numba.njit(cache=True, nogil=True, boundscheck=False, inline="always")
-def _sincos1(v):
-    """``(sin v, cos v)`` of one angle, to a few ulp."""
-    if abs(v) < 1e5:
-        return _sincos_poly(v)
-    return math.sin(v), math.cos(v)
-
-
 @numba.njit(cache=True, nogil=True, boundscheck=False)
 def sincos(x, s, c, n):
     """Write ``sin(x[:n])`` and ``cos(x[:n])`` into ``s`` and ``c`` (branch-free, so it vectorizes).
@@ -93,7 +89,7 @@ def sincos(x, s, c, n):
             c[i] = math.cos(x[i])
 
 
-def pack(struct: KinematicStructure) -> np.ndarray:
+def pack(struct: st.KinematicStructure) -> np.ndarray:
     """Pack the structure into the kernels' one array (a single argument is cheap to pass).
 
     Args:
@@ -104,26 +100,12 @@ def pack(struct: KinematicStructure) -> np.ndarray:
         ``t_o``, ``R_o K``, ``R_o K K``, ``R_o axis``, then the parent index, joint type code,
         first coordinate and the number of coordinates as exact floats.
     """
-    n = struct.n_links
-    pk = np.empty((n, _WIDTH))
-    pk[:, _F_MULT] = struct.mult
-    pk[:, _F_OFF] = struct.off
-    pk[:, _F_ROT:_F_TRANS] = struct.rot.reshape(n, 9)
-    pk[:, _F_TRANS:_F_RK] = struct.trans
-    pk[:, _F_RK:_F_RK2] = struct.rk.reshape(n, 9)
-    pk[:, _F_RK2:_F_DIRN] = struct.rk2.reshape(n, 9)
-    pk[:, _F_DIRN:_I_PARENT] = struct.dirn
-    pk[:, _I_PARENT] = struct.parent
-    pk[:, _I_TYPE] = struct.jtype
-    pk[:, _I_COORD] = struct.coord
-    pk[:, _I_NCOORDS] = len(struct.coord_names)
-    return pk
-
-
-def block_size(n_links: int, n_out: int) -> int:
-    """Configurations per block of :func:`fk_batch_kernel`, keeping its buffers within ~1 MB."""
-    per_config = n_links * 12 * 8 + n_out * 16 * 8
-    return int(min(_MAX_BLOCK, max(8, (1 << 20) // max(per_config, 1) // 8 * 8)))
+    s, n = struct, struct.n_links
+    codes = [_CODES[int(c)] for c in s.jtype]
+    ints = np.column_stack([s.parent, codes, s.coord, np.full(n, len(s.coord_names))]).reshape(n, 4)
+    cols = [s.mult[:, None], s.off[:, None], s.rot.reshape(n, 9), s.trans, s.rk.reshape(n, 9)]
+    pk = np.hstack([*cols, s.rk2.reshape(n, 9), s.dirn, ints.astype(np.float64)])
+    return np.ascontiguousarray(pk, dtype=np.float64)
 
 
 @numba.njit(cache=True, nogil=True, boundscheck=False, inline="always")
@@ -137,7 +119,7 @@ def _rot_times(pk, i, rq, a, b):
 def _multi_local(q, c0, code, pk, i):
     """Local transform (R row-major, t) as a 12-tuple of a floating or planar joint reading ``q[c0:]``."""
     px, py, pz = q[c0], q[c0 + 1], 0.0
-    if code == FLOATING:
+    if code == _FLOATING:
         pz = q[c0 + 2]
         x, y, z, w = q[c0 + 3], q[c0 + 4], q[c0 + 5], q[c0 + 6]
         nrm = math.sqrt(x * x + y * y + z * z + w * w)
@@ -173,9 +155,9 @@ def _rev(pk, i, j, s, c1):
 def _local(u, pk, i):
     """``T_parent_link`` of link ``i`` as a 12-tuple (R row-major, then t); no heap allocation."""
     code = int(pk[i, _I_TYPE])
-    if code == REVOLUTE:
+    if code == _REVOLUTE:
         th = pk[i, _F_MULT] * u[int(pk[i, _I_COORD])] + pk[i, _F_OFF]
-        s, c = _sincos1(th)
+        s, c = _sincos_poly(th) if abs(th) < 1e5 else (math.sin(th), math.cos(th))
         c1 = 1.0 - c
         return (
             _rev(pk, i, 0, s, c1), _rev(pk, i, 1, s, c1), _rev(pk, i, 2, s, c1),
@@ -183,10 +165,10 @@ def _local(u, pk, i):
             _rev(pk, i, 6, s, c1), _rev(pk, i, 7, s, c1), _rev(pk, i, 8, s, c1),
             pk[i, _F_TRANS], pk[i, _F_TRANS + 1], pk[i, _F_TRANS + 2],
         )  # fmt: skip
-    if code in (FLOATING, PLANAR):
+    if code in (_FLOATING, _PLANAR):
         return _multi_local(u, int(pk[i, _I_COORD]), code, pk, i)
     d = 0.0
-    if code == PRISMATIC:
+    if code == _PRISMATIC:
         d = pk[i, _F_MULT] * u[int(pk[i, _I_COORD])] + pk[i, _F_OFF]
     return (
         pk[i, _F_ROT], pk[i, _F_ROT + 1], pk[i, _F_ROT + 2],
@@ -224,17 +206,17 @@ def _read(o, k):
 
 
 @numba.njit(cache=True, nogil=True, boundscheck=False)
-def _write(T, o, k):
-    """A 12-tuple pose into ``o[k]`` of a (n, 4, 4) array."""
+def _write(T, o):
+    """A 12-tuple pose into a (4, 4) array."""
     for a in range(3):
-        o[k, a, 0] = T[3 * a]
-        o[k, a, 1] = T[3 * a + 1]
-        o[k, a, 2] = T[3 * a + 2]
-        o[k, a, 3] = T[9 + a]
-    o[k, 3, 0] = 0.0
-    o[k, 3, 1] = 0.0
-    o[k, 3, 2] = 0.0
-    o[k, 3, 3] = 1.0
+        o[a, 0] = T[3 * a]
+        o[a, 1] = T[3 * a + 1]
+        o[a, 2] = T[3 * a + 2]
+        o[a, 3] = T[9 + a]
+    o[3, 0] = 0.0
+    o[3, 1] = 0.0
+    o[3, 2] = 0.0
+    o[3, 3] = 1.0
 
 
 @numba.njit(cache=True, nogil=True, boundscheck=False, inline="always")
@@ -252,13 +234,10 @@ def _check(u, pk):
     "int64(float64[:], float64[:, ::1], float64[:, :, ::1])", cache=True, nogil=True, boundscheck=False
 )
 def fk_one_all(u, pk, out):
-    """Every link pose of one configuration into ``out`` (n_links, 4, 4).
+    """Every link pose of one configuration into ``out`` (n_links, 4, 4); returns a status code.
 
     Parents come before children, so each link reads its parent's pose back from ``out``. Compiled
-    for float64 arrays only (other types raise TypeError: convert them first).
-
-    Returns:
-        A status code: ``OK``, ``NOT_FINITE`` or ``BAD_SHAPE`` (``out`` is then not written).
+    for float64 only (other types raise TypeError). ``out`` is not written unless the status is OK.
     """
     status = _check(u, pk)
     if status != OK:
@@ -266,7 +245,7 @@ def fk_one_all(u, pk, out):
     for i in range(pk.shape[0]):
         p = int(pk[i, _I_PARENT])
         T = _local(u, pk, i)
-        _write(T if p < 0 else _mul(_read(out, p), T), out, i)
+        _write(T if p < 0 else _mul(_read(out, p), T), out[i])
     return OK
 
 
@@ -274,13 +253,10 @@ def fk_one_all(u, pk, out):
     "int64(float64[:], float64[:, ::1], int64, float64[:, ::1])", cache=True, nogil=True, boundscheck=False
 )
 def fk_one_link(u, pk, link, out):
-    """The pose of one link for one configuration into ``out`` (4, 4).
+    """The pose of one link for one configuration into ``out`` (4, 4); returns a status code.
 
     Walks from the link up to the root, premultiplying by each ancestor's local transform. Compiled
-    for float64 arrays only (other types raise TypeError: convert them first).
-
-    Returns:
-        A status code: ``OK``, ``NOT_FINITE`` or ``BAD_SHAPE`` (``out`` is then not written).
+    for float64 only (other types raise TypeError). ``out`` is not written unless the status is OK.
     """
     status = _check(u, pk)
     if status != OK:
@@ -290,25 +266,23 @@ def fk_one_link(u, pk, link, out):
     while i >= 0:
         T = _mul(_local(u, pk, i), T)
         i = int(pk[i, _I_PARENT])
-    for a in range(3):
-        out[a, 0] = T[3 * a]
-        out[a, 1] = T[3 * a + 1]
-        out[a, 2] = T[3 * a + 2]
-        out[a, 3] = T[9 + a]
-    out[3, 0] = 0.0
-    out[3, 1] = 0.0
-    out[3, 2] = 0.0
-    out[3, 3] = 1.0
+    _write(T, out)
     return OK
 
 
 # ----------------------------------------------------------------------------- batches
+def block_size(n_links: int, n_out: int) -> int:
+    """Configurations per block of :func:`fk_batch_kernel`, keeping its buffers within ~1 MB."""
+    per_config = n_links * 12 * 8 + n_out * 16 * 8
+    return int(min(_MAX_BLOCK, max(8, (1 << 20) // max(per_config, 1) // 8 * 8)))
+
+
 @numba.njit(cache=True, nogil=True, boundscheck=False)
 def _local_block(Q, pk, i, k0, nb, L, TH, SN, CS):
     """Local transforms of link ``i`` for configurations ``k0 .. k0 + nb`` into ``L`` (12, block)."""
     code = int(pk[i, _I_TYPE])
     t0, t1, t2 = pk[i, _F_TRANS], pk[i, _F_TRANS + 1], pk[i, _F_TRANS + 2]
-    if code == REVOLUTE:
+    if code == _REVOLUTE:
         c0 = int(pk[i, _I_COORD])
         m, o = pk[i, _F_MULT], pk[i, _F_OFF]
         for b in range(nb):
@@ -319,7 +293,7 @@ def _local_block(Q, pk, i, k0, nb, L, TH, SN, CS):
             row = L[j]
             for b in range(nb):
                 row[b] = r + SN[b] * rk + (1.0 - CS[b]) * rk2
-    elif code in (FLOATING, PLANAR):
+    elif code in (_FLOATING, _PLANAR):
         c0 = int(pk[i, _I_COORD])
         for b in range(nb):
             T = _multi_local(Q[k0 + b], c0, code, pk, i)
@@ -333,7 +307,7 @@ def _local_block(Q, pk, i, k0, nb, L, TH, SN, CS):
             for b in range(nb):
                 row[b] = r
     x, y, z = L[9], L[10], L[11]
-    if code == PRISMATIC:
+    if code == _PRISMATIC:
         c0 = int(pk[i, _I_COORD])
         m, o = pk[i, _F_MULT], pk[i, _F_OFF]
         d0, d1, d2 = pk[i, _F_DIRN], pk[i, _F_DIRN + 1], pk[i, _F_DIRN + 2]

@@ -187,11 +187,15 @@ class Robot:
             raise LinkNotFound(name, self.link_names) from None
 
     def _kernels(self) -> Kernels | None:
+        """Look up (and cache on the robot) the compiled single-configuration kernels."""
         self._kern = self._engine.kernels()
         return self._kern
 
     def fk(self, q: Any, *, backend: kinematics.Backend = "auto") -> np.ndarray:
         """Return every link pose ``T_root_link``.
+
+        With numba installed (and ``backend`` ``"auto"`` or ``"numba"``) one compiled call computes
+        every pose; otherwise the numpy batch code runs with one configuration.
 
         Args:
             q: A configuration (array in ``joint_names`` order, or a mapping).
@@ -200,7 +204,7 @@ class Robot:
         Returns:
             (n_links, 4, 4) float64 array, rows in :attr:`link_names` order.
         """
-        kern = self._kern or self._kernels() if backend in ("auto", "numba") else None
+        kern = (self._kern or self._kernels()) if backend in ("auto", "numba") else None
         if kern is not None:
             out = np.empty((self._s.n_links, 4, 4))
             try:
@@ -217,6 +221,9 @@ class Robot:
 
     def frame_pose(self, name: str, q: Any) -> np.ndarray:
         """Return ``T_root_name`` of one link (4x4 float64).
+
+        Only the link's chain is computed: by a compiled kernel when numba is installed, by
+        Pinocchio otherwise.
 
         Args:
             name: A link name (or :attr:`world_frame` with a floating base).

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import builtins
 import math
+from functools import lru_cache
 
 from urdftk.xacro._eval import GETATTR, LSHIFT, POW, guarded_getattr, guarded_lshift, guarded_pow, safe_type
 from urdftk.xacro._scope import NameSpace
@@ -93,6 +94,16 @@ def _getattr(obj: Any, name: str) -> Any:
     return guarded_getattr(obj, name, (NameSpace,), (YamlDict, YamlList))
 
 
+@lru_cache(maxsize=1)
+def _tables() -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
+    """The fixed parts of the root table (never modified: every expansion copies them)."""
+    b = vars(builtins)
+    python = {k: b[k] for k in _PYTHON}
+    python["type"] = safe_type
+    public = {k: v for k, v in vars(math).items() if not k.startswith("_")}
+    return {k: b[k] for k in _DIRECT}, python, public
+
+
 def make_root(ctx: Any) -> dict[str, Any]:
     """Build the root symbol table for one expansion.
 
@@ -102,16 +113,15 @@ def make_root(ctx: Any) -> dict[str, Any]:
     Returns:
         A plain dict: the parent of every top-level scope.
     """
+    direct, python_items, public = _tables()
     b = vars(builtins)
-    root: dict[str, Any] = {k: b[k] for k in _DIRECT}
+    root: dict[str, Any] = direct.copy()
     python = NameSpace()
-    dict.update(python, {k: b[k] for k in _PYTHON})
-    dict.__setitem__(python, "type", safe_type)
+    dict.update(python, python_items)
     for k in ("sorted", "range"):
         root[k] = _deprecated(ctx, b[k], k, "python")
     root["python"] = python
     mathns = NameSpace()
-    public = {k: v for k, v in vars(math).items() if not k.startswith("_")}
     dict.update(mathns, public)
     root["math"] = mathns
     root.update(public)
