@@ -36,13 +36,14 @@ _NAME_RE = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
 _MAX_CRAWL_DIRS = 200_000
 
 
-def _package_name(folder: Path) -> str:
+def _package_name(folder: str | Path) -> str:
     try:
-        head = (folder / "package.xml").read_bytes()[:65536]
+        with open(os.path.join(folder, "package.xml"), "rb") as fh:
+            head = fh.read(65536)
     except OSError:
-        return folder.name
+        return os.path.basename(folder)
     match = _NAME_RE.search(head)
-    return match.group(1).decode("utf-8", "replace") if match else folder.name
+    return match.group(1).decode("utf-8", "replace") if match else os.path.basename(folder)
 
 
 def crawl_packages(root: str | os.PathLike[str]) -> dict[str, Path]:
@@ -55,8 +56,8 @@ def crawl_packages(root: str | os.PathLike[str]) -> dict[str, Path]:
         Package name -> package folder. The first folder found for a name wins.
     """
     found: dict[str, Path] = {}
-    start = Path(root)
-    if not start.is_dir():
+    start = os.fspath(root)
+    if not os.path.isdir(start):
         return found
     visited = 0
     stack = [start]
@@ -64,22 +65,31 @@ def crawl_packages(root: str | os.PathLike[str]) -> dict[str, Path]:
         folder = stack.pop()
         visited += 1
         try:
-            entries = list(os.scandir(folder))
+            with os.scandir(folder) as it:
+                entries = list(it)
         except OSError:
             continue
         names = {e.name for e in entries}
-        if any(m in names for m in _IGNORE_MARKERS):
+        if not names.isdisjoint(_IGNORE_MARKERS):
             continue
         if "package.xml" in names:
-            name = _package_name(folder)
-            found.setdefault(name, folder)
-            found.setdefault(folder.name, folder)
+            path = Path(folder)
+            found.setdefault(_package_name(folder), path)
+            found.setdefault(os.path.basename(folder), path)
             continue
-        subdirs = [
-            Path(e.path) for e in entries if not e.name.startswith(".") and e.is_dir(follow_symlinks=True)
-        ]
-        stack.extend(sorted(subdirs, reverse=True))
+        subdirs = sorted(e.path for e in entries if e.name[0] != "." and e.is_dir(follow_symlinks=True))
+        stack.extend(reversed(subdirs))
     return found
+
+
+def _direct_package(root: str | os.PathLike[str], name: str) -> Path | None:
+    """``root/name`` (or ``root`` itself) when it is the package ``name``: the common case, no crawl."""
+    for cand in (os.path.join(root, name), os.fspath(root)):
+        if os.path.isfile(os.path.join(cand, "package.xml")) and _package_name(cand) == name:
+            ignored = any(os.path.exists(os.path.join(cand, m)) for m in _IGNORE_MARKERS)
+            if not ignored:
+                return Path(cand)
+    return None
 
 
 def _ament_packages(prefix: Path) -> dict[str, Path]:
@@ -142,16 +152,23 @@ def _enclosing_package(source: Path) -> Path | None:
 
 
 class _Place:
-    """One search place, crawled on first use."""
+    """One search place: probed directly for ``<root>/<name>``, crawled in full on first miss."""
 
-    __slots__ = ("label", "load", "packages")
+    __slots__ = ("crawl_root", "label", "load", "packages")
 
-    def __init__(self, label: str, load: Callable[[], dict[str, Path]]) -> None:
+    def __init__(
+        self, label: str, load: Callable[[], dict[str, Path]], crawl_root: Path | None = None
+    ) -> None:
         self.label = label
         self.load = load
+        self.crawl_root = crawl_root
         self.packages: dict[str, Path] | None = None
 
     def lookup(self, name: str) -> Path | None:
+        if self.packages is None and self.crawl_root is not None:
+            direct = _direct_package(self.crawl_root, name)
+            if direct is not None:
+                return direct
         if self.packages is None:
             self.packages = self.load()
         return self.packages.get(name)
@@ -189,10 +206,10 @@ class PackageResolver:
         places: list[_Place] = []
         for p in package_paths:
             path = Path(p).expanduser().resolve()
-            places.append(_Place(f"-p {path}", lambda path=path: crawl_packages(path)))
+            places.append(_Place(f"-p {path}", lambda path=path: crawl_packages(path), path))
         for p in filter(None, env.get("ROS_PACKAGE_PATH", "").split(os.pathsep)):
             path = Path(p).expanduser()
-            places.append(_Place(f"ROS_PACKAGE_PATH {path}", lambda path=path: crawl_packages(path)))
+            places.append(_Place(f"ROS_PACKAGE_PATH {path}", lambda path=path: crawl_packages(path), path))
         for p in filter(None, env.get("AMENT_PREFIX_PATH", "").split(os.pathsep)):
             path = Path(p).expanduser()
             places.append(_Place(f"AMENT_PREFIX_PATH {path}", lambda path=path: _ament_packages(path)))

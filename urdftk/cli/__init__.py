@@ -21,7 +21,18 @@ __all__ = ["COMMANDS", "main"]
 
 
 class _Parser(argparse.ArgumentParser):
-    """ArgumentParser whose usage errors are one line and exit 2."""
+    """ArgumentParser whose usage errors are one line and exit 2.
+
+    Its help formatter gets a fixed width (``COLUMNS``, else 100): argparse would otherwise
+    import ``shutil`` to measure the terminal on every ``add_argument``, which is start-up time.
+    """
+
+    def _get_formatter(self) -> argparse.HelpFormatter:
+        try:
+            width = int(os.environ.get("COLUMNS", "100")) - 2
+        except ValueError:
+            width = 98
+        return self.formatter_class(prog=self.prog, width=max(width, 40))
 
     def error(self, message: str) -> None:  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message}\n")
