@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from lxml import etree
 
 from urdftk._mimic import Mimic, resolve_mimics
 from urdftk.description import Description
@@ -125,11 +126,40 @@ class KinematicStructure:
         return len(self.link_names)
 
 
-def _limit(value: object, default: float) -> float:
+def _floats(el: etree._Element | None, attr: str, n: int, fname: str | None) -> np.ndarray | None:
+    """``n`` floats from attribute ``attr`` of ``el``; None when the element or attribute is absent."""
+    text = el.get(attr) if el is not None else None
+    if text is None:
+        return None
+    try:
+        values = np.array(text.split(), dtype=float)
+    except ValueError:
+        values = np.empty(0)
+    if values.shape != (n,):
+        raise DescriptionError(f"<{el.tag} {attr}=\"{text}\"> needs {n} numbers", fname, el.sourceline)
+    return values
+
+
+def _limit(el: etree._Element | None, attr: str, default: float, fname: str | None) -> float:
+    value = _floats(el, attr, 1, fname)
     if value is None:
         return default
-    v = float(value)  # type: ignore[arg-type]
+    v = float(value[0])
     return v if math.isfinite(v) else default
+
+
+def _rpy_matrix(rpy: np.ndarray) -> np.ndarray:
+    """URDF's fixed-axis roll, pitch, yaw: R = Rz(yaw) @ Ry(pitch) @ Rx(roll)."""
+    cr, sr = math.cos(rpy[0]), math.sin(rpy[0])
+    cp, sp = math.cos(rpy[1]), math.sin(rpy[1])
+    cy, sy = math.cos(rpy[2]), math.sin(rpy[2])
+    return np.array(
+        [
+            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr],
+        ]
+    )
 
 
 def build_structure(description: Description, floating_base: bool = False) -> KinematicStructure:
@@ -147,14 +177,13 @@ def build_structure(description: Description, floating_base: bool = False) -> Ki
     """
     tree = description.tree
     fname = description.filename
-    ydf_joints = description.urdf.joint_map
     mimic = resolve_mimics(tree.joints, fname)
     root = tree.roots[0]
     link_set = {link.name for link in tree.links}
     world = None
     if floating_base:
         world = "world" if "world" not in link_set else "floating_base_world"
-        if FLOATING_BASE_JOINT in ydf_joints:
+        if any(j.name == FLOATING_BASE_JOINT for j in tree.joints):
             raise DescriptionError(
                 f"a joint is already named '{FLOATING_BASE_JOINT}'; cannot add a floating base", fname
             )
@@ -207,17 +236,20 @@ def build_structure(description: Description, floating_base: bool = False) -> Ki
             coord[i] = add_coords(jname, FLOATING)
             records.append(JointRecord(jname, "floating", world or "world", link, i, int(coord[i])))
             continue
-        yj = ydf_joints[jname]
         info = tree.parent_joint[link][0]
         code = _TYPE_CODES[info.type]
         parent[i] = index[info.parent]
         jtype[i] = code
-        if yj.origin is not None:
-            origin = np.asarray(yj.origin, dtype=float)
-            rot[i] = origin[:3, :3]
-            trans[i] = origin[:3, 3]
+        origin = info.element.find("origin")
+        xyz = _floats(origin, "xyz", 3, fname)
+        rpy = _floats(origin, "rpy", 3, fname)
+        if xyz is not None:
+            trans[i] = xyz
+        if rpy is not None:
+            rot[i] = _rpy_matrix(rpy)
         if code in (REVOLUTE, PRISMATIC):
-            ax = np.asarray(yj.axis if yj.axis is not None else (1.0, 0.0, 0.0), dtype=float)
+            ax = _floats(info.element.find("axis"), "xyz", 3, fname)
+            ax = np.array((1.0, 0.0, 0.0)) if ax is None else ax
             norm = float(np.linalg.norm(ax))
             if not (norm > 1e-12 and math.isfinite(norm)):
                 raise DescriptionError(f"joint '{jname}' has a zero or invalid <axis>", fname, info.line)
@@ -225,11 +257,12 @@ def build_structure(description: Description, floating_base: bool = False) -> Ki
             if jname not in mimic:
                 own_coord[jname] = len(coord_names)
                 coord_names.append(jname)
-                lo, hi, vel, eff = -math.inf, math.inf, math.inf, math.inf
-                if yj.limit is not None:
-                    if info.type != "continuous":
-                        lo, hi = _limit(yj.limit.lower, -math.inf), _limit(yj.limit.upper, math.inf)
-                    vel, eff = _limit(yj.limit.velocity, math.inf), _limit(yj.limit.effort, math.inf)
+                limit = info.element.find("limit")
+                lo, hi = -math.inf, math.inf
+                if info.type != "continuous":
+                    lo, hi = _limit(limit, "lower", -math.inf, fname), _limit(limit, "upper", math.inf, fname)
+                vel = _limit(limit, "velocity", math.inf, fname)
+                eff = _limit(limit, "effort", math.inf, fname)
                 lim.append((lo, hi, vel, eff, code == REVOLUTE))
                 coord[i] = own_coord[jname]
         elif code in (FLOATING, PLANAR):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
@@ -16,10 +17,14 @@ from urdftk.xmlsafe import parse_xml
 __all__ = ["expand", "load", "uses_xacro"]
 
 
-_SUBSTITUTIONS = ("${",)
+_COMMENT = re.compile(r"<!--.*?-->", re.S)
+_XACRO_ELEMENT = etree.XPath("boolean(//*[starts-with(name(), 'xacro:')])")
+"""As stock xacro, by prefix: files use several namespace URIs."""
+_SUBSTITUTION = etree.XPath("boolean(//@*[contains(., '${')] | //text()[contains(., '${')])")
+"""``${...}`` in an attribute or text (comments are not text())."""
 
 
-def uses_xacro(root: etree._Element) -> bool:
+def uses_xacro(root: etree._Element, text: str | None = None) -> bool:
     """Tell whether a parsed document uses xacro: ``xacro:`` elements, or ``${...}`` in values.
 
     Comments do not count, and neither does an unused ``xmlns:xacro`` declaration (files written
@@ -28,19 +33,16 @@ def uses_xacro(root: etree._Element) -> bool:
 
     Args:
         root: The document root.
+        text: The document text, if at hand: substring tests then skip most of the tree walks.
 
     Returns:
         True when the document must be expanded before it is a URDF.
     """
-    for el in root.iter():
-        if not isinstance(el.tag, str):
-            continue
-        if el.prefix == "xacro":  # as stock xacro, by prefix: files use several namespace URIs
-            return True
-        texts = [el.text or "", *el.attrib.values()]
-        if any(marker in t for t in texts for marker in _SUBSTITUTIONS):
-            return True
-    return False
+    if text is not None:
+        bare = _COMMENT.sub("", text) if "<!--" in text else text
+        if "${" not in bare and "<xacro:" not in bare:
+            return False
+    return bool(_XACRO_ELEMENT(root)) or bool(_SUBSTITUTION(root))
 
 
 def _looks_like_text(value: str) -> bool:
@@ -89,8 +91,7 @@ def expand(
     resolver = PackageResolver(pkg_paths, source=filename)
     if not args and not (filename or "").endswith(".xacro"):
         root = parse_xml(text, filename)
-        # Substring tests first: a document with neither can use no xacro, whatever its elements.
-        if ("${" not in text and "xacro:" not in text) or not uses_xacro(root):
+        if not uses_xacro(root, text):
             return text, filename, resolver, root
     from urdftk import xacro
 

@@ -74,7 +74,6 @@ class Robot:
         import pinocchio as pin
 
         self.parsed = description
-        self.description = description.urdf
         self.name: str = description.name
         self.source: Path | None = Path(description.filename) if description.filename else None
         self.urdf_text: str = description.text
@@ -107,6 +106,15 @@ class Robot:
         self._all_plan = kinematics.make_plan(s, self._all_links)
         self._engine = Engine(self.name, s, self.model)
         self._kern: Kernels | None = None
+
+    @property
+    def description(self) -> Any:
+        """The yourdfpy ``URDF`` parsed from :attr:`urdf_text` (meshes not loaded), built on first use.
+
+        yourdfpy (and trimesh behind it) are imported and run only when something needs them,
+        such as the viewer's mesh loading; kinematics never does.
+        """
+        return self.parsed.urdf
 
     # ----------------------------------------------------------------- configurations
     @property
