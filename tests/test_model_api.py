@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -244,3 +245,20 @@ def test_bad_mimic_is_a_description_error_with_line(mimic, message):
         with pytest.raises(DescriptionError, match=message) as info:
             urdftk.load(text)
     assert info.value.line == 1
+
+
+def test_random_with_size_draws_a_batch_within_limits():
+    path = "examples/robots/mobile_manipulator_description/urdf/mobile_manipulator.urdf.xacro"
+    robot = urdftk.load(Path(__file__).resolve().parents[1] / path)
+    Q = robot.random(7, size=500)
+    assert Q.shape == (500, robot.dof)
+    assert np.all(robot.limits.lower <= Q) and np.all(robot.limits.upper >= Q)
+    np.testing.assert_array_equal(Q, robot.random(7, size=500))  # seeded: reproducible
+    assert np.ptp(Q, axis=0).min() > 0  # every coordinate varies
+    batch = robot.fk_batch(Q[:20])
+    for k in range(20):
+        np.testing.assert_allclose(batch[k], robot.fk(Q[k]), atol=1e-12)
+    floating = urdftk.load(Path(__file__).resolve().parents[1] / path, floating_base=True)
+    Qf = floating.random(3, size=50)
+    quat = [i for i, n in enumerate(floating.joint_names) if n.endswith(("/qx", "/qy", "/qz", "/qw"))]
+    np.testing.assert_allclose(np.linalg.norm(Qf[:, quat], axis=1), 1.0, atol=1e-12)

@@ -227,7 +227,7 @@ def test_bombs_end_fast_with_bounded_memory(kind, tmp_path):
     path = tmp_path / "bomb.xacro"
     path.write_text(text)
     code = textwrap.dedent(f"""
-        import resource, sys
+        import sys
         from urdftk.xacro import process_file
         from urdftk.errors import XacroError
         try:
@@ -235,7 +235,11 @@ def test_bombs_end_fast_with_bounded_memory(kind, tmp_path):
             print("finished")
         except XacroError as e:
             print("failed:", str(e).splitlines()[0][:200])
-        print("maxrss_kb", resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+        # Peak RSS of this process's own memory map (VmHWM). ru_maxrss would not do: Linux keeps
+        # it across fork+exec, so a child of a big pytest process reports the parent's peak.
+        with open("/proc/self/status") as fh:
+            hwm = next(line for line in fh if line.startswith("VmHWM:"))
+        print("maxrss_kb", int(hwm.split()[1]))
     """)
     t0 = time.monotonic()
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=50)

@@ -72,7 +72,7 @@ class ConfigSpace:
             q[c : c + 4] = (0.0, 0.0, 0.0, 1.0)
         return q
 
-    def random(self, gen: np.random.Generator) -> np.ndarray:
+    def random(self, gen: np.random.Generator, size: int | None = None) -> np.ndarray:
         """A uniform draw within the limits (see :meth:`urdftk.model.Robot.random`)."""
         lo, hi = self.limits.lower.copy(), self.limits.upper.copy()
         ang = self.angular
@@ -82,10 +82,11 @@ class ConfigSpace:
         free = ~ang & ~np.isfinite(hi - lo)
         lo = np.where(free, np.clip(-1.0, lo, np.maximum(lo, hi - 2.0)), lo)
         hi = np.where(free, lo + 2.0, hi)
-        q = gen.uniform(lo, hi)
+        shape = self.shape if size is None else (int(size), *self.shape)
+        q = gen.uniform(lo, hi, size=shape)
         for c in self.quat_coords:
-            v = gen.normal(size=4)
-            q[c : c + 4] = v / np.linalg.norm(v)
+            v = gen.normal(size=(*shape[:-1], 4))
+            q[..., c : c + 4] = v / np.linalg.norm(v, axis=-1, keepdims=True)
         return q
 
     def check(self, value: Mapping[str, float] | Sequence[float] | np.ndarray, clip: bool) -> np.ndarray:

@@ -131,8 +131,8 @@ class Robot:
         """Return the neutral configuration: zero clipped into the limits, identity quaternions."""
         return self._cfg.neutral()
 
-    def random(self, rng: np.random.Generator | int | None = None) -> np.ndarray:
-        """Draw a configuration uniformly within the limits.
+    def random(self, rng: np.random.Generator | int | None = None, size: int | None = None) -> np.ndarray:
+        """Draw configurations uniformly within the limits.
 
         Angles whose range is wider than a turn are drawn over one turn (within [-pi, pi] where the
         limits allow), unbounded positions over 2 m (within [-1, 1] where allowed), and quaternions
@@ -140,12 +140,13 @@ class Robot:
 
         Args:
             rng: A numpy Generator, or a seed.
+            size: Number of configurations; None for one.
 
         Returns:
-            (dof,) configuration.
+            A (dof,) configuration, or (size, dof) configurations (ready for :meth:`fk_batch`).
         """
         gen = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
-        return self._cfg.random(gen)
+        return self._cfg.random(gen, size)
 
     def q(self, value: Mapping[str, float] | Sequence[float] | np.ndarray, clip: bool = False) -> np.ndarray:
         """Convert a configuration given by name or as an array into a checked (dof,) array.

@@ -171,10 +171,14 @@ class ZenohSubscription(Subscription):
         info = _keys.type_info(msg_type)
         self.key = _keys.topic_key(bus.domain_id, topic, info)
         self.closed = False
+        # indirect=False: samples are handled on Zenoh's own threads. The default (indirect) runs
+        # them on a non-daemon Python thread that lives until the subscriber is undeclared, and
+        # Python joins such threads before atexit handlers run: a process that never closed its
+        # transport would then hang at exit instead of closing it.
         self._zsub = zenoh.ext.declare_advanced_subscriber(
             bus._session,
             self.key,
-            self._on_sample,
+            zenoh.handlers.Callback(self._on_sample, indirect=False),
             history=zenoh.ext.HistoryConfig(detect_late_publishers=True),
         )
         qos = _keys.qos_string(depth=_DEPTH.get(topic, 42))
@@ -354,7 +358,9 @@ class ZenohTransport(Transport):
                     alive.pop(token.key, None)
 
         sub = self._session.liveliness().declare_subscriber(
-            f"{_keys.ADMIN_SPACE}/{self.domain_id}/**", on_token, history=True
+            f"{_keys.ADMIN_SPACE}/{self.domain_id}/**",
+            zenoh.handlers.Callback(on_token, indirect=False),
+            history=True,
         )
         try:
             threading.Event().wait(timeout)
