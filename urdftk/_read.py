@@ -22,6 +22,7 @@ from urdftk.xmlsafe import parse_xml
 
 __all__ = ["Source", "read_source"]
 
+
 @dataclass(frozen=True)
 class Source:
     """A parsed robot document.
