@@ -60,8 +60,9 @@ def main() -> None:
         )
         for name, path in cases:
             data = path.read_bytes()
-            t_load = best_of(lambda p=path: urdftk.load(p), 3)
-            t_pin = best_of(lambda p=path: pin.buildModelFromUrdf(str(p)))
+            # Best of 20 for both sides of the ratio: single runs swing 2x on a shared 2-core machine.
+            t_load = best_of(lambda p=path: urdftk.load(p), 20)
+            t_pin = best_of(lambda p=path: pin.buildModelFromUrdf(str(p)), 20)
             t_ydf = best_of(
                 lambda d=data: yourdfpy.URDF.load(
                     io.BytesIO(d), build_scene_graph=False, load_meshes=False, load_collision_meshes=False

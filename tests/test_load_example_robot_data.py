@@ -82,3 +82,23 @@ def test_fk_jacobian_batch_against_oracles(path):
                 J = robot.jacobian(link, q, reference=reference)
                 assert J.shape == (6, robot.dof)
                 np.testing.assert_allclose(J, expected[i], atol=1e-6, rtol=0, err_msg=f"{link} {reference}")
+
+
+@pytest.mark.parametrize("path", [p for p in FILES if _rel(p) not in EXPECTED_FAILURES], ids=_rel)
+def test_joint_and_fixed_transforms_compose_to_fk(path):
+    """The robot-state-publisher contract: the per-joint T_parent_child of fixed_transforms() and
+    joint_transforms(q), chained from the root, reproduce fk(q) for every link."""
+    robot = _load(path)
+    q = robot.random(np.random.default_rng(11))
+    pairs = [*robot.fixed_transforms(), *robot.joint_transforms(q)]
+    edges = {child: (parent, T) for parent, child, T in pairs}
+    assert set(edges) == set(robot.link_names) - {robot.root_link}
+    fk = robot.fk(q)
+    for i, link in enumerate(robot.link_names):
+        T = np.eye(4)
+        node = link
+        while node != robot.root_link:
+            parent, T_parent_node = edges[node]
+            T = T_parent_node @ T
+            node = parent
+        np.testing.assert_allclose(T, fk[i], atol=1e-9, err_msg=link)

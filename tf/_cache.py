@@ -6,7 +6,11 @@ doubles per sample: qx qy qz qw tx ty tz, then ``theta`` and ``k`` describing th
 sample to the next one, computed when the pair forms; see ``pair_constants``). Pruned samples
 are skipped with a start offset ``lo`` and compacted in batches, which keeps pruning O(1)
 amortised with tf2's exact semantics. The newest sample is also kept as a ready-made tuple,
-``latest`` = (stamp, parent, qx, qy, qz, qw, tx, ty, tz), for the hot "latest" path. The owner
+``latest`` = (stamp, parent, qx, qy, qz, qw, tx, ty, tz), for the hot "latest" path, and so is
+the newest pair when both samples have the same parent, ``pair`` = (the older sample's 9 fields,
+|theta|, k, the newer quaternion (negated when theta < 0), 1 / (newer stamp - older stamp), newer
+translation - older translation), for interpolation between them. It is replaced on every append
+and is ``NO_NEWEST_PAIR`` after any other insert or once pruning removed its older sample. The owner
 (``_core.BufferCore``) does the locking.
 """
 
@@ -19,6 +23,7 @@ from struct import Struct
 
 __all__ = [
     "NO_DATA",
+    "NO_NEWEST_PAIR",
     "PAIR",
     "Sample",
     "StaticCache",
@@ -40,7 +45,7 @@ PAIR = Struct("16d")  # sample i (7), theta, k, sample i + 1 (7): everything to 
 _STRIDE = 9
 _BYTES = _STRIDE * 8
 _COMPACT_MIN = 32
-_NO_PAIR = (0.0, 0.0)
+NO_NEWEST_PAIR = (1 << 64,)  # ``TimeCache.pair`` when there is none: its "older stamp" is never < t
 _sin = math.sin
 _acos = math.acos
 _sqrt = math.sqrt
@@ -146,7 +151,7 @@ class StaticCache:
 class TimeCache:
     """Time-stamped samples of one child frame, tf2 (ROS 2) TimeCache semantics."""
 
-    __slots__ = ("data", "latest", "lo", "max_ns", "parents", "stamps")
+    __slots__ = ("data", "latest", "lo", "max_ns", "pair", "parents", "stamps")
     static = False
 
     def __init__(self, max_ns: int) -> None:
@@ -156,6 +161,7 @@ class TimeCache:
         self.data = array("d")
         self.lo = 0
         self.latest: Sample | None = None
+        self.pair: tuple = NO_NEWEST_PAIR  # the newest pair (see the module docstring)
 
     def __len__(self) -> int:
         return len(self.stamps) - self.lo
@@ -167,6 +173,7 @@ class TimeCache:
         self.data = array("d")
         self.lo = 0
         self.latest = None
+        self.pair = NO_NEWEST_PAIR
 
     def _record(self, i: int) -> Sample:
         return (self.stamps[i], self.parents[i], *_REC.unpack_from(self.data, i * _BYTES))
@@ -196,6 +203,8 @@ class TimeCache:
                 while stamps[lo] < limit:
                     lo += 1
                 self.lo = lo
+                if lo > n - 2:
+                    self.pair = NO_NEWEST_PAIR  # its older sample is gone (this insert may yet be rejected)
                 if lo >= _COMPACT_MIN and lo * 8 >= n:
                     self._compact()
                     n = len(stamps := self.stamps)
@@ -204,8 +213,9 @@ class TimeCache:
                 return False
             if t > newest:
                 # pair_constants(previous newest, sample), inlined: this is the hot insert path
-                _, _, x1, y1, z1, w1, _, _, _ = self.latest
-                _, _, x2, y2, z2, w2, _, _, _ = sample
+                prev = self.latest
+                _, _, x1, y1, z1, w1, ax, ay, az = prev
+                _, parent, x2, y2, z2, w2, bx, by, bz = sample
                 d = x1 * x2 + y1 * y2 + z1 * z2 + w1 * w2
                 c = (-d if d < 0.0 else d) / _sqrt(
                     (x1 * x1 + y1 * y1 + z1 * z1 + w1 * w1) * (x2 * x2 + y2 * y2 + z2 * z2 + w2 * w2)
@@ -214,12 +224,20 @@ class TimeCache:
                 j = n * _STRIDE - 2
                 if c < 1.0:
                     th = _acos(c)
+                    k = data[j + 1] = 1.0 / _sin(th)
                     data[j] = -th if d < 0.0 else th
-                    data[j + 1] = 1.0 / _sin(th)
+                else:
+                    th = k = 0.0
+                inv = 1.0 / (t - newest)
+                if prev[1] != parent:  # re-parenting: no pair
+                    self.pair = NO_NEWEST_PAIR
+                elif d < 0.0:  # shortest path: the pair holds -q2 and a positive theta
+                    self.pair = (*prev, th, k, -x2, -y2, -z2, -w2, inv, bx - ax, by - ay, bz - az)
+                else:
+                    self.pair = (*prev, th, k, x2, y2, z2, w2, inv, bx - ax, by - ay, bz - az)
                 stamps.append(t)
-                self.parents.append(sample[1])
-                data.extend(sample[2:])
-                data.extend(_NO_PAIR)
+                self.parents.append(parent)
+                data.extend((x2, y2, z2, w2, bx, by, bz, 0.0, 0.0))
                 self.latest = sample
                 return True
             i = bisect_right(stamps, t, lo)
@@ -230,6 +248,7 @@ class TimeCache:
                 k -= 1
         else:
             i = n
+        self.pair = NO_NEWEST_PAIR  # rare (out of order, equal stamps): the walk's general path takes over
         stamps.insert(i, t)
         self.parents.insert(i, sample[1])
         self.data[i * _STRIDE : i * _STRIDE] = array("d", (*sample[2:], 0.0, 0.0))

@@ -27,7 +27,7 @@ from ._codes import (
 )
 from ._math import canonical_rotation, compose
 from ._reject import reject
-from ._walk import TreeWalker
+from ._walk import HIT, TreeWalker, up
 
 __all__ = [
     "BACKWARD_EXTRAPOLATION",
@@ -208,7 +208,16 @@ class BufferCore(TreeWalker):
                 code, source_id = self.validate("lookupTransform argument source_frame", source)
                 if code:
                     return code, source_id
-            code, r = self._walk(t, target_id, source_id)
+            if t and source_id != target_id:  # _walk's source pass, inlined for ancestor targets
+                hit = up(self._caches, source_id, t, 0, target_id)
+                if hit[0] != HIT:
+                    code, r = self._walk_rest(t, target_id, source_id, hit)
+                    hit = None
+            else:
+                hit = None
+                code, r = self._walk(t, target_id, source_id)
+        if hit is not None:  # normalised outside the lock
+            return NO_ERROR, (t, *canonical_rotation(hit[4], hit[5], hit[6], hit[7]), hit[8], hit[9], hit[10])
         if code:
             return code, r
         return NO_ERROR, (r[0], *canonical_rotation(r[1], r[2], r[3], r[4]), r[5], r[6], r[7])

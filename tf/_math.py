@@ -90,7 +90,8 @@ def canonical_rotation(x: float, y: float, z: float, w: float) -> tuple[float, f
 
     ROS 2's BufferCore stores the result in a ``tf2::Transform`` (a rotation matrix) before
     writing the message, so the returned quaternion is normalised, with tf2's sign choice.
-    Same arithmetic as ``quaternion_from_matrix(matrix_from_quaternion(...))``, inlined.
+    ``quaternion_from_matrix(matrix_from_quaternion(...))`` inlined (equal up to rounding: the
+    trace > 0 branch uses m21 - m12 = 2 w x s directly; the branch choice is computed as tf2 does).
     """
     s = 2.0 / (x * x + y * y + z * z + w * w)
     xs, ys, zs = x * s, y * s, z * s
@@ -100,13 +101,8 @@ def canonical_rotation(x: float, y: float, z: float, w: float) -> tuple[float, f
     trace = m00 + m11 + m22
     if trace > 0.0:
         r = math.sqrt(trace + 1.0)
-        k = 0.5 / r
-        return (
-            (y * zs + w * xs - (y * zs - w * xs)) * k,
-            (x * zs + w * ys - (x * zs - w * ys)) * k,
-            (x * ys + w * zs - (x * ys - w * zs)) * k,
-            r * 0.5,
-        )
+        k = w / r  # (m21 - m12) * 0.5 / r = 2 w xs * 0.5 / r, and so on (equal up to rounding)
+        return xs * k, ys * k, zs * k, r * 0.5
     return quaternion_from_matrix(matrix_from_quaternion(x, y, z, w))
 
 

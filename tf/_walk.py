@@ -16,17 +16,19 @@ from ._cache import PAIR
 from ._codes import CONNECTIVITY, LOOKUP, MAX_GRAPH_DEPTH, NO_ERROR
 from ._math import quat_multiply, quat_rotate
 
-__all__ = ["TreeWalker"]
+__all__ = ["HIT", "TreeWalker", "up"]
 
 _PAIR = PAIR.unpack_from
 _sin = math.sin
 _STOP = 0  # reached ``end``, a frame without data, or (source pass only) a failing link
-_HIT = 1  # reached ``other``
+HIT = _HIT = 1  # reached ``other``
 _FAIL = 2  # a link has no data at t (target pass: reported at once)
 _LOOP = 3
+_DEPTHS = range(MAX_GRAPH_DEPTH + 1)
+_NEVER = 1 << 64  # later than any stamp
 
 
-def _up(caches: list[Any], frame: int, t: int, end: int, other: int) -> tuple:
+def up(caches: list[Any], frame: int, t: int, end: int, other: int) -> tuple:
     """One half of walkToTopParent: compose links upwards from ``frame`` at time ``t``.
 
     Stops at ``end`` or a frame without a cache (_STOP), at ``other`` (_HIT), when a link has no
@@ -38,9 +40,12 @@ def _up(caches: list[Any], frame: int, t: int, end: int, other: int) -> tuple:
     sx = sy = sz = 0.0
     sw = 1.0
     svx = svy = svz = 0.0
-    depth = 0
     last = frame
-    while frame != end:
+    miss = _FAIL if end else _STOP
+    before = t or _NEVER  # ``before < stamp``: t is before the stamp (never true at t = 0)
+    for depth in _DEPTHS:  # after MAX_GRAPH_DEPTH + 1 links: a loop (tf2 walkToTopParent)
+        if frame == end:
+            break
         if frame == other:
             return _HIT, frame, last, None, sx, sy, sz, sw, svx, svy, svz
         cache = caches[frame]
@@ -48,47 +53,60 @@ def _up(caches: list[Any], frame: int, t: int, end: int, other: int) -> tuple:
             break
         s = cache.latest
         if s is None:
-            return (_STOP if not end else _FAIL), frame, last, cache, sx, sy, sz, sw, svx, svy, svz
-        stamp, parent, x, y, z, w, tx, ty, tz = s
-        if stamp != t and t and not cache.static:
-            s = None
-            if t < stamp:
+            return miss, frame, last, cache, sx, sy, sz, sw, svx, svy, svz
+        if before < s[0]:  # t before a dynamic cache's newest stamp (static stamps are 0)
+            p = cache.pair
+            if p[0] < t:  # between the two newest samples, one parent
+                s1, parent, x, y, z, w, tx, ty, tz, th, k, x2, y2, z2, w2, inv, dx, dy, dz = p
+                r = (t - s1) * inv
+            else:
                 stamps = cache.stamps
-                i = _bisect(stamps, t, cache.lo) - 1
-                if i >= cache.lo and stamps[i] != t:
-                    parents = cache.parents
-                    parent = parents[i]
-                    if parent == parents[i + 1]:
-                        s1 = stamps[i]
-                        r = (t - s1) / (stamps[i + 1] - s1)
-                        q = 1.0 - r
-                        x, y, z, w, ax, ay, az, th, k, x2, y2, z2, w2, bx, by, bz = _PAIR(cache.data, i * 72)
-                        if th:
-                            a = _sin(q * th) * k
-                            b = _sin(r * th) * k
-                            if th < 0.0:
-                                a = -a
-                            x = x * a + x2 * b
-                            y = y * a + y2 * b
-                            z = z * a + z2 * b
-                            w = w * a + w2 * b
-                        tx = q * ax + r * bx
-                        ty = q * ay + r * by
-                        tz = q * az + r * bz
-                        s = True
-            if s is None:
-                s = cache.sample_at(t)
-                if s is None:
-                    return (_STOP if not end else _FAIL), frame, last, cache, sx, sy, sz, sw, svx, svy, svz
-                _, parent, x, y, z, w, tx, ty, tz = s
+                lo = cache.lo
+                i = _bisect(stamps, t, lo) - 1
+                s1 = stamps[i]
+                parents = cache.parents
+                parent = parents[i]
+                if i >= lo and s1 != t and parent == parents[i + 1]:
+                    r = (t - s1) / (stamps[i + 1] - s1)
+                    x, y, z, w, tx, ty, tz, th, k, x2, y2, z2, w2, dx, dy, dz = _PAIR(cache.data, i * 72)
+                    dx -= tx
+                    dy -= ty
+                    dz -= tz
+                    if th < 0.0:  # shortest path: negate q2 (as the newest pair already holds it)
+                        th = -th
+                        x2 = -x2
+                        y2 = -y2
+                        z2 = -z2
+                        w2 = -w2
+                else:  # exact stamp, re-parenting, or before the oldest sample
+                    s = cache.sample_at(t)
+                    if s is None:
+                        return miss, frame, last, cache, sx, sy, sz, sw, svx, svy, svz
+                    _, parent, x, y, z, w, tx, ty, tz = s
+                    th = r = dx = dy = dz = 0.0  # "interpolating" at r = 0 keeps the sample as is
+            if th:  # tf2 Quaternion::slerp with theta and 1 / sin(theta) precomputed at insert
+                a = _sin((1.0 - r) * th) * k
+                b = _sin(r * th) * k
+                x = x * a + x2 * b
+                y = y * a + y2 * b
+                z = z * a + z2 * b
+                w = w * a + w2 * b
+            tx += r * dx  # lerp
+            ty += r * dy
+            tz += r * dz
+        elif t == s[0] or not t or cache.static:
+            _, parent, x, y, z, w, tx, ty, tz = s
+        else:  # after the newest sample: extrapolation into the future
+            return miss, frame, last, cache, sx, sy, sz, sw, svx, svy, svz
         if depth:
+            # tf2 TransformAccum::accum: v = q v q* + t (q unnormalised), then q = q_link q
             rx = w * svx + y * svz - z * svy
             ry = w * svy + z * svx - x * svz
             rz = w * svz + x * svy - y * svx
-            rw = -x * svx - y * svy - z * svz
-            svx = -rw * x + rx * w - ry * z + rz * y + tx
-            svy = -rw * y + ry * w - rz * x + rx * z + ty
-            svz = -rw * z + rz * w - rx * y + ry * x + tz
+            mw = x * svx + y * svy + z * svz
+            svx = mw * x + rx * w - ry * z + rz * y + tx
+            svy = mw * y + ry * w - rz * x + rx * z + ty
+            svz = mw * z + rz * w - rx * y + ry * x + tz
             nx = w * sx + x * sw + y * sz - z * sy
             ny = w * sy + y * sw + z * sx - x * sz
             nz = w * sz + z * sw + x * sy - y * sx
@@ -100,9 +118,8 @@ def _up(caches: list[Any], frame: int, t: int, end: int, other: int) -> tuple:
             sx, sy, sz, sw, svx, svy, svz = x, y, z, w, tx, ty, tz
         last = frame
         frame = parent
-        depth += 1
-        if depth > MAX_GRAPH_DEPTH:
-            return _LOOP, frame, last, None, sx, sy, sz, sw, svx, svy, svz
+    else:
+        return _LOOP, frame, last, None, sx, sy, sz, sw, svx, svy, svz
     return _STOP, frame, last, None, sx, sy, sz, sw, svx, svy, svz
 
 
@@ -204,19 +221,23 @@ class TreeWalker:
             code, t = self._latest_common_time(target_id, source_id)
             if code:
                 return code, t
-        caches = self._caches
         # ---- source -> root (stops early if the target is an ancestor of the source)
-        r = _up(caches, source_id, t, 0, target_id)
-        kind = r[0]
-        if kind == _HIT:
+        r = up(self._caches, source_id, t, 0, target_id)
+        if r[0] == _HIT:
             return NO_ERROR, (t, *r[4:])
+        return self._walk_rest(t, target_id, source_id, r)
+
+    def _walk_rest(self, t: int, target_id: int, source_id: int, r: tuple) -> tuple[int, Any]:
+        """``_walk`` after a source pass ``r`` (``up`` from the source) that did not reach the target."""
+        caches = self._caches
+        kind = r[0]
         if kind == _LOOP:
             return self._loop_error()
         _, top, last, failed, sx, sy, sz, sw, svx, svy, svz = r
         if not top:  # a link to "NO_PARENT" (id 0): tf2 stops at the last frame walked
             top = last
         # ---- target -> top of the source chain (stops early if the source is an ancestor)
-        r = _up(caches, target_id, t, top, source_id)
+        r = up(caches, target_id, t, top, source_id)
         kind = r[0]
         if kind == _LOOP:
             return self._loop_error()
@@ -250,9 +271,9 @@ class TreeWalker:
         One pass walks up from the source composing the newest samples, while computing the
         chain's latest common time (tf2's getLatestCommonTime, source side). If every dynamic link
         has that same newest stamp (a state publisher's pattern) the composition is the answer;
-        otherwise the collected chain is recomposed at the common time. Returns None whenever the
-        general two-pass walk is needed (other topologies, re-parenting at that time, errors), so
-        results are always the general walk's.
+        otherwise the general walk runs at that common time (tf2's getLatestCommonTime gives the
+        same value on this path). Returns None whenever the general two-pass walk is needed from
+        the start (other topologies, zero stamps only), so results are always the general walk's.
         """
         caches = self._caches
         depth = 0
@@ -307,46 +328,10 @@ class TreeWalker:
                 return None
         if uniform:
             return NO_ERROR, (common, sx, sy, sz, sw, svx, svy, svz)
-        chain = []  # walk the same links again, keeping them, and compose at the common time
-        frame = source_id
-        while frame != target_id:
-            cache = caches[frame]
-            chain.append((cache, cache.latest))
-            frame = cache.latest[1]
-        return self._compose_chain(chain, common)
-
-    def _compose_chain(self, chain: list[tuple[Any, tuple]], t: int) -> tuple[int, Any] | None:
-        """Compose the chain's samples at ``t`` (source first); None if a link fails or re-parents."""
-        sx = sy = sz = 0.0
-        sw = 1.0
-        svx = svy = svz = 0.0
-        first = True
-        for cache, s in chain:
-            if s[0] != t and not cache.static:
-                older = cache.sample_at(t)
-                if older is None or older[1] != s[1]:
-                    return None
-                s = older
-            _, _, x, y, z, w, tx, ty, tz = s
-            if first:
-                sx, sy, sz, sw, svx, svy, svz = x, y, z, w, tx, ty, tz
-                first = False
-                continue
-            rx = w * svx + y * svz - z * svy
-            ry = w * svy + z * svx - x * svz
-            rz = w * svz + x * svy - y * svx
-            rw = -x * svx - y * svy - z * svz
-            svx = -rw * x + rx * w - ry * z + rz * y + tx
-            svy = -rw * y + ry * w - rz * x + rx * z + ty
-            svz = -rw * z + rz * w - rx * y + ry * x + tz
-            nx = w * sx + x * sw + y * sz - z * sy
-            ny = w * sy + y * sw + z * sx - x * sz
-            nz = w * sz + z * sw + x * sy - y * sx
-            sw = w * sw - x * sx - y * sy - z * sz
-            sx = nx
-            sy = ny
-            sz = nz
-        return NO_ERROR, (t, sx, sy, sz, sw, svx, svy, svz)
+        if not common:
+            return None
+        # mixed stamps: the general walk at the common time just found (what tf2 does next)
+        return self._walk(common, target_id, source_id)
 
     def _walk_many(self, t: int, target_id: int, source_ids: list[int]) -> list[tuple[int, Any]]:
         """``_walk`` for many sources; shared links are composed once when the target is an ancestor.

@@ -1,4 +1,4 @@
-"""Per-robot computing state behind :class:`~urdftk.model.Robot`: Pinocchio's Data and FK kernels.
+"""Per-robot computing state behind :class:`~urdftk.model.Robot`: Pinocchio's Data, FK kernels, maps.
 
 Single-configuration FK (:meth:`Robot.fk`, :meth:`Robot.frame_pose`) runs the compiled kernels of
 :mod:`urdftk._fk_numba` when numba is installed: one call with five arguments, no Pinocchio
@@ -15,6 +15,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from urdftk import kinematics
+from urdftk._pinmap import PinMap, build_pinmap
 from urdftk._structure import KinematicStructure
 from urdftk.errors import KinematicsError
 
@@ -45,17 +46,33 @@ class Engine:
         name: The robot's name (for error messages).
         struct: Its kinematic structure.
         model: Its ``pinocchio.Model``.
+        filename: The description's file, for error messages.
     """
 
-    def __init__(self, name: str, struct: KinematicStructure, model: Any):
+    def __init__(self, name: str, struct: KinematicStructure, model: Any, filename: str | None = None):
         """Keep references; nothing is computed until first use."""
         self.name = name
         self.struct = struct
         self.model = model
+        self.filename = filename
         self.lock = threading.Lock()
         self._data: Any = None
         self._kernels: Kernels | None = None
         self._numba: bool | None = None
+        self._pinmap: PinMap | None = None
+        self._plan: tuple[np.ndarray, np.ndarray] | None = None
+
+    def pinmap(self) -> PinMap:
+        """The user -> Pinocchio coordinate map, built on first use (twice from two threads is harmless)."""
+        if self._pinmap is None:
+            self._pinmap = build_pinmap(self.struct, self.model, self.filename)
+        return self._pinmap
+
+    def plan(self) -> tuple[np.ndarray, np.ndarray]:
+        """The FK plan over every link (:func:`urdftk.kinematics.make_plan`), made on first use."""
+        if self._plan is None:
+            self._plan = kinematics.make_plan(self.struct, np.arange(self.struct.n_links))
+        return self._plan
 
     def kernels(self) -> Kernels | None:
         """The compiled kernels, or None when numba is not installed (first call compiles or loads)."""

@@ -8,14 +8,16 @@ free-flyers are ``(x, y, z, qx, qy, qz, qw)`` in both (normalized here).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from urdftk._structure import FLOATING, PLANAR, KinematicStructure
 from urdftk.errors import DescriptionError
 
-__all__ = ["PinMap", "build_pinmap"]
+__all__ = ["PinMap", "build_pinmap", "check_joints", "frame_ids"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,6 +110,44 @@ def _quat_matrix(x: float, y: float, z: float, w: float) -> np.ndarray:
     )
 
 
+def check_joints(struct: KinematicStructure, model, filename: str | None = None) -> None:
+    """Check that Pinocchio's movable joints are the description's (what :func:`build_pinmap` needs).
+
+    Raises:
+        DescriptionError: If Pinocchio's joints differ from the description's.
+    """
+    names = [r.name for r in struct.joints if r.type != "fixed"]
+    njoints = model.njoints
+    if len(names) == njoints - 1:  # fast exact test: the names are ids 1..njoints-1, each once
+        get_id = model.getJointId
+        ids = {get_id(name) for name in names}
+        if len(ids) == len(names) and all(0 < i < njoints for i in ids):
+            return
+    pin_names = list(model.names)[1:]
+    if sorted(pin_names) != sorted(names):
+        missing = sorted(set(names) ^ set(pin_names))
+        raise DescriptionError(
+            f"Pinocchio and the description disagree on the movable joints ({', '.join(missing[:10])})",
+            filename,
+        )
+
+
+def frame_ids(model, links: Sequence[str], body: Any, filename: str | None = None) -> dict[str, int]:
+    """Return the Pinocchio frame id of each link's body frame (``body`` is ``pinocchio.BODY``).
+
+    Raises:
+        DescriptionError: If Pinocchio has no frame for a link.
+    """
+    ids: dict[str, int] = {}
+    get_frame_id, nframes = model.getFrameId, model.nframes
+    for link in links:
+        fid = get_frame_id(link, body)
+        if fid >= nframes:
+            raise DescriptionError(f"Pinocchio has no frame for link '{link}'", filename)
+        ids[link] = fid
+    return ids
+
+
 def build_pinmap(struct: KinematicStructure, model, filename: str | None = None) -> PinMap:
     """Match the structure's joints with the Pinocchio model's and build the index arrays.
 
@@ -128,33 +168,30 @@ def build_pinmap(struct: KinematicStructure, model, filename: str | None = None)
     quat: list[tuple[int, int]] = []
     planar: list[tuple[int, int]] = []
     floating: list[tuple[int, int]] = []
+    check_joints(struct, model, filename)
     n_coords = len(struct.coord_names)
     G = np.zeros((model.nv, n_coords))
     movable = [r for r in struct.joints if r.type != "fixed"]
-    pin_names = list(model.names)[1:]
-    if sorted(pin_names) != sorted(r.name for r in movable):
-        missing = sorted({r.name for r in movable} ^ set(pin_names))
-        raise DescriptionError(
-            f"Pinocchio and the description disagree on the movable joints ({', '.join(missing[:10])})",
-            filename,
-        )
+    # Fetch Pinocchio's index vectors once (indexing them is cheap; converting them is not).
+    get_id, idx_qs, idx_vs, nqs = model.getJointId, model.idx_qs, model.idx_vs, model.nqs
+    mults, offs, jtypes = struct.mult.tolist(), struct.off.tolist(), struct.jtype.tolist()
     for rec in movable:
-        jid = model.getJointId(rec.name)
-        iq, iv = model.idx_qs[jid], model.idx_vs[jid]
+        jid = get_id(rec.name)
+        iq, iv = idx_qs[jid], idx_vs[jid]
         i = rec.link
-        mult, off, c = float(struct.mult[i]), float(struct.off[i]), rec.coord
-        nq = model.nqs[jid]
+        mult, off, c = mults[i], offs[i], rec.coord
+        nq = nqs[jid]
         if rec.type in ("revolute", "prismatic", "continuous"):
             if nq == 1:
                 lin.append((iq, c, mult, off))
             else:
                 cs.append((iq, c, mult, off))
             G[iv, c] = mult
-        elif struct.jtype[i] == PLANAR:
+        elif jtypes[i] == PLANAR:
             copy.extend([(iq, c), (iq + 1, c + 1)])
             cs.append((iq + 2, c + 2, 1.0, 0.0))
             planar.append((iv, c))
-        elif struct.jtype[i] == FLOATING:
+        elif jtypes[i] == FLOATING:
             copy.extend((iq + k, c + k) for k in range(7))
             quat.append((iq + 3, c + 3))
             floating.append((iv, c))

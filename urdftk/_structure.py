@@ -9,8 +9,10 @@ coordinate and read their master's through ``multiplier`` and ``offset``.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from lxml import etree
@@ -43,8 +45,7 @@ FLOATING_BASE_JOINT = "root_joint"
 """Name of the free-flyer joint added by ``floating_base=True`` (Pinocchio's default name)."""
 
 
-@dataclass(frozen=True)
-class JointRecord:
+class JointRecord(NamedTuple):
     """A URDF joint as the model sees it.
 
     Attributes:
@@ -62,10 +63,6 @@ class JointRecord:
     child: str
     link: int
     coord: int
-
-
-def _skew(a: np.ndarray) -> np.ndarray:
-    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
 
 
 @dataclass(frozen=True, eq=False)
@@ -109,9 +106,6 @@ class KinematicStructure:
     off: np.ndarray
     rot: np.ndarray
     trans: np.ndarray
-    rk: np.ndarray
-    rk2: np.ndarray
-    dirn: np.ndarray
     angles: np.ndarray
     axis: np.ndarray
     lower: np.ndarray
@@ -125,41 +119,98 @@ class KinematicStructure:
         """Number of links."""
         return len(self.link_names)
 
+    # Derived arrays, computed on first use by FK (computing one twice is harmless).
+    @functools.cached_property
+    def _k(self) -> np.ndarray:
+        """The cross-product matrix ``K`` of each axis (n, 3, 3)."""
+        a = self.axis
+        K = np.zeros((len(a), 3, 3))
+        K[:, 0, 1], K[:, 0, 2], K[:, 1, 2] = -a[:, 2], a[:, 1], -a[:, 0]
+        K[:, 1, 0], K[:, 2, 0], K[:, 2, 1] = a[:, 2], -a[:, 1], a[:, 0]
+        return K
 
-def _floats(el: etree._Element | None, attr: str, n: int, fname: str | None) -> np.ndarray | None:
+    @functools.cached_property
+    def rk(self) -> np.ndarray:
+        """``R_o @ K`` (revolute)."""
+        return self.rot @ self._k
+
+    @functools.cached_property
+    def rk2(self) -> np.ndarray:
+        """``R_o @ K @ K`` (revolute)."""
+        return self.rk @ self._k
+
+    @functools.cached_property
+    def dirn(self) -> np.ndarray:
+        """``R_o @ axis`` (prismatic), the axis in the parent frame."""
+        return np.einsum("nij,nj->ni", self.rot, self.axis)
+
+
+def _floats(el: etree._Element | None, attr: str, n: int, fname: str | None) -> list[float] | None:
     """``n`` floats from attribute ``attr`` of ``el``; None when the element or attribute is absent."""
     text = el.get(attr) if el is not None else None
     if text is None:
         return None
+    parts = text.split()
     try:
-        values = np.array(text.split(), dtype=float)
+        if n == 3 and len(parts) == 3:  # the common case, without a comprehension
+            return [float(parts[0]), float(parts[1]), float(parts[2])]
+        values = [float(v) for v in parts]
     except ValueError:
-        values = np.empty(0)
-    if values.shape != (n,):
-        raise DescriptionError(f"<{el.tag} {attr}=\"{text}\"> needs {n} numbers", fname, el.sourceline)
+        values = []
+    if len(values) != n:
+        raise DescriptionError(f'<{el.tag} {attr}="{text}"> needs {n} numbers', fname, el.sourceline)
     return values
 
 
 def _limit(el: etree._Element | None, attr: str, default: float, fname: str | None) -> float:
-    value = _floats(el, attr, 1, fname)
-    if value is None:
+    text = el.get(attr) if el is not None else None
+    if text is None:
         return default
-    v = float(value[0])
+    try:
+        v = float(text)  # one number, blanks around it allowed: what _floats(..., 1) accepts
+    except ValueError:
+        v = _floats(el, attr, 1, fname)[0]  # raises the message for a malformed value
     return v if math.isfinite(v) else default
 
 
-def _rpy_matrix(rpy: np.ndarray) -> np.ndarray:
-    """URDF's fixed-axis roll, pitch, yaw: R = Rz(yaw) @ Ry(pitch) @ Rx(roll)."""
+_HAS_MIMIC = etree.XPath("boolean(joint/mimic)")
+"""True when some top-level ``<joint>`` has a ``<mimic>`` child (the joints resolve_mimics reads)."""
+
+_EYE = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+
+
+def _rpy_matrix(rpy: list[float]) -> tuple[float, ...]:
+    """URDF's fixed-axis roll, pitch, yaw: R = Rz(yaw) @ Ry(pitch) @ Rx(roll), row-major."""
     cr, sr = math.cos(rpy[0]), math.sin(rpy[0])
     cp, sp = math.cos(rpy[1]), math.sin(rpy[1])
     cy, sy = math.cos(rpy[2]), math.sin(rpy[2])
-    return np.array(
-        [
-            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-            [-sp, cp * sr, cp * cr],
-        ]
+    return (
+        cy * cp,
+        cy * sp * sr - sy * cr,
+        cy * sp * cr + sy * sr,
+        sy * cp,
+        sy * sp * sr + cy * cr,
+        sy * sp * cr - cy * sr,
+        -sp,
+        cp * sr,
+        cp * cr,
     )
+
+
+def _coords(
+    jname: str, code: int, names: list[str], lim: list[tuple[float, float, float, float, bool]]
+) -> int:
+    """Append the coordinates of a multi-coordinate joint; return the first one's index."""
+    first = len(names)
+    for suffix in COORDINATE_SUFFIXES[code]:
+        names.append(f"{jname}/{suffix}")
+        if suffix.startswith("q"):
+            lim.append((-1.0, 1.0, math.inf, math.inf, False))
+        elif suffix == "theta":
+            lim.append((-math.inf, math.inf, math.inf, math.inf, True))  # an angle
+        else:
+            lim.append((-math.inf, math.inf, math.inf, math.inf, False))
+    return first
 
 
 def build_structure(description: Description, floating_base: bool = False) -> KinematicStructure:
@@ -177,118 +228,113 @@ def build_structure(description: Description, floating_base: bool = False) -> Ki
     """
     tree = description.tree
     fname = description.filename
-    mimic = resolve_mimics(tree.joints, fname)
+    # One C-level query spares resolve_mimics a find() per joint when nothing mimics (it returns {}).
+    mimic = resolve_mimics(tree.joints, fname) if _HAS_MIMIC(description.root) else {}
     root = tree.roots[0]
-    link_set = {link.name for link in tree.links}
     world = None
     if floating_base:
-        world = "world" if "world" not in link_set else "floating_base_world"
+        world = "world" if all(link.name != "world" for link in tree.links) else "floating_base_world"
         if any(j.name == FLOATING_BASE_JOINT for j in tree.joints):
             raise DescriptionError(
                 f"a joint is already named '{FLOATING_BASE_JOINT}'; cannot add a floating base", fname
             )
 
+    # Depth-first link order, children in document order; each link with the joint ending in it.
     order: list[str] = []
-    joint_of: dict[str, str | None] = {root: FLOATING_BASE_JOINT if floating_base else None}
-    stack = [root]
+    incoming: list[object] = []
+    children = tree.children
+    stack: list[tuple[str, object]] = [(root, None)]
     while stack:
-        link = stack.pop()
+        link, j = stack.pop()
         order.append(link)
-        kids = tree.children.get(link, [])
-        for j in kids:
-            joint_of[j.child] = j.name
-        stack.extend(j.child for j in reversed(kids))
+        incoming.append(j)
+        kids = children.get(link)
+        if kids:
+            stack.extend((k.child, k) for k in reversed(kids))
     index = {name: i for i, name in enumerate(order)}
     n = len(order)
 
-    parent = np.full(n, -1, dtype=np.int64)
-    jtype = np.zeros(n, dtype=np.int64)
-    coord = np.full(n, -1, dtype=np.int64)
-    mult = np.ones(n)
-    off = np.zeros(n)
-    rot = np.tile(np.eye(3), (n, 1, 1))
-    trans = np.zeros((n, 3))
-    axis = np.zeros((n, 3))
-    axis[:, 0] = 1.0
+    # Per-link values gathered in plain lists; numpy arrays are made once at the end.
+    parent = [-1] * n
+    jtype = [FIXED] * n
+    coord = [-1] * n
+    mult = [1.0] * n
+    off = [0.0] * n
+    rot: list[tuple[float, ...]] = [_EYE] * n
+    trans: list[tuple[float, ...] | list[float]] = [(0.0, 0.0, 0.0)] * n
+    axis: list[tuple[float, ...]] = [(1.0, 0.0, 0.0)] * n
     coord_names: list[str] = []
     lim: list[tuple[float, float, float, float, bool]] = []
     records: list[JointRecord] = []
     own_coord: dict[str, int] = {}
 
-    def add_coords(jname: str, code: int) -> int:
-        first = len(coord_names)
-        for suffix in COORDINATE_SUFFIXES[code]:
-            coord_names.append(f"{jname}/{suffix}")
-            if suffix.startswith("q"):
-                lim.append((-1.0, 1.0, math.inf, math.inf, False))
-            elif suffix == "theta":
-                lim.append((-math.inf, math.inf, math.inf, math.inf, True))  # an angle
-            else:
-                lim.append((-math.inf, math.inf, math.inf, math.inf, False))
-        return first
-
-    for i, link in enumerate(order):
-        jname = joint_of[link]
-        if jname is None:
+    for i in range(n):
+        link = order[i]
+        info = incoming[i]
+        if info is None:
+            if floating_base:  # the root link: the free-flyer ends in it
+                jtype[i] = FLOATING
+                coord[i] = _coords(FLOATING_BASE_JOINT, FLOATING, coord_names, lim)
+                records.append(
+                    JointRecord(FLOATING_BASE_JOINT, "floating", world or "world", link, i, coord[i])
+                )
             continue
-        if jname == FLOATING_BASE_JOINT and link == root and floating_base:
-            jtype[i] = FLOATING
-            coord[i] = add_coords(jname, FLOATING)
-            records.append(JointRecord(jname, "floating", world or "world", link, i, int(coord[i])))
-            continue
-        info = tree.parent_joint[link][0]
+        jname = info.name
         code = _TYPE_CODES[info.type]
         parent[i] = index[info.parent]
         jtype[i] = code
-        origin = info.element.find("origin")
-        xyz = _floats(origin, "xyz", 3, fname)
-        rpy = _floats(origin, "rpy", 3, fname)
-        if xyz is not None:
-            trans[i] = xyz
-        if rpy is not None:
-            rot[i] = _rpy_matrix(rpy)
+        origin = axis_el = limit = None  # the first of each, as find() would return
+        for sub in info.element:
+            tag = sub.tag
+            if tag == "origin":
+                origin = sub if origin is None else origin
+            elif tag == "axis":
+                axis_el = sub if axis_el is None else axis_el
+            elif tag == "limit":
+                limit = sub if limit is None else limit
+        if origin is not None:
+            xyz = _floats(origin, "xyz", 3, fname)
+            rpy = _floats(origin, "rpy", 3, fname)
+            if xyz is not None:
+                trans[i] = xyz
+            if rpy is not None:
+                rot[i] = _rpy_matrix(rpy)
         if code in (REVOLUTE, PRISMATIC):
-            ax = _floats(info.element.find("axis"), "xyz", 3, fname)
-            ax = np.array((1.0, 0.0, 0.0)) if ax is None else ax
-            norm = float(np.linalg.norm(ax))
+            ax = _floats(axis_el, "xyz", 3, fname) or (1.0, 0.0, 0.0)
+            x, y, z = ax
+            norm = math.sqrt(x * x + y * y + z * z)
             if not (norm > 1e-12 and math.isfinite(norm)):
                 raise DescriptionError(f"joint '{jname}' has a zero or invalid <axis>", fname, info.line)
-            axis[i] = ax / norm
+            axis[i] = (x / norm, y / norm, z / norm)
             if jname not in mimic:
-                own_coord[jname] = len(coord_names)
+                own_coord[jname] = coord[i] = len(coord_names)
                 coord_names.append(jname)
-                limit = info.element.find("limit")
                 lo, hi = -math.inf, math.inf
                 if info.type != "continuous":
                     lo, hi = _limit(limit, "lower", -math.inf, fname), _limit(limit, "upper", math.inf, fname)
                 vel = _limit(limit, "velocity", math.inf, fname)
                 eff = _limit(limit, "effort", math.inf, fname)
                 lim.append((lo, hi, vel, eff, code == REVOLUTE))
-                coord[i] = own_coord[jname]
         elif code in (FLOATING, PLANAR):
-            coord[i] = add_coords(jname, code)
-        records.append(JointRecord(jname, info.type, info.parent, link, i, int(coord[i])))
+            coord[i] = _coords(jname, code, coord_names, lim)
+        records.append(JointRecord(jname, info.type, info.parent, link, i, coord[i]))
 
-    for rec in records:  # mimic followers read their master's coordinate
-        if rec.name in mimic:
-            m = mimic[rec.name]
-            i = rec.link
-            coord[i] = own_coord[m.master]
-            mult[i], off[i] = m.multiplier, m.offset
-    records = [
-        JointRecord(r.name, r.type, r.parent, r.child, r.link, int(coord[r.link])) if r.name in mimic else r
-        for r in records
-    ]
+    if mimic:
+        for k, rec in enumerate(records):  # mimic followers read their master's coordinate
+            m = mimic.get(rec.name)
+            if m is not None:
+                i = rec.link
+                coord[i] = own_coord[m.master]
+                mult[i], off[i] = m.multiplier, m.offset
+                records[k] = JointRecord(rec.name, rec.type, rec.parent, rec.child, i, coord[i])
 
-    angles = np.full(n, -1, dtype=np.int64)
+    angle_of = [-1] * n
     distinct: dict[tuple[int, float, float], int] = {}
-    for i in np.flatnonzero(jtype == REVOLUTE):
-        key = (int(coord[i]), float(mult[i]), float(off[i]))
-        angles[i] = distinct.setdefault(key, len(distinct))
-    K = np.array([_skew(a) for a in axis]) if n else np.zeros((0, 3, 3))
-    rk = rot @ K
-    rk2 = rk @ K
-    dirn = np.einsum("nij,nj->ni", rot, axis)
+    for i in range(n):
+        if jtype[i] == REVOLUTE:
+            angle_of[i] = distinct.setdefault((coord[i], mult[i], off[i]), len(distinct))
+    rot_a = np.array(rot, dtype=float).reshape(n, 3, 3)
+    axis_a = np.array(axis, dtype=float).reshape(n, 3)
     limits = np.array(lim, dtype=float).reshape(-1, 5)
     return KinematicStructure(
         link_names=tuple(order),
@@ -296,18 +342,15 @@ def build_structure(description: Description, floating_base: bool = False) -> Ki
         joints=tuple(records),
         coord_names=tuple(coord_names),
         mimic=mimic,
-        parent=parent,
-        jtype=jtype,
-        coord=coord,
-        mult=mult,
-        off=off,
-        rot=rot,
-        trans=trans,
-        rk=rk,
-        rk2=rk2,
-        dirn=dirn,
-        angles=angles,
-        axis=axis,
+        parent=np.array(parent, dtype=np.int64),
+        jtype=np.array(jtype, dtype=np.int64),
+        coord=np.array(coord, dtype=np.int64),
+        mult=np.array(mult, dtype=float),
+        off=np.array(off, dtype=float),
+        rot=rot_a,
+        trans=np.array(trans, dtype=float).reshape(n, 3),
+        angles=np.array(angle_of, dtype=np.int64),
+        axis=axis_a,
         lower=limits[:, 0].copy(),
         upper=limits[:, 1].copy(),
         velocity=limits[:, 2].copy(),

@@ -91,7 +91,10 @@ def structure_errors(root: etree._Element, tree: TreeInfo) -> list[tuple[int | N
         for item in items:
             if not item.name:
                 errors.append((item.line, f"<{kind}> has no name"))
-        for name, count in Counter(i.name for i in items if i.name).items():
+        names = [i.name for i in items if i.name]
+        if len(set(names)) == len(names):  # no duplicates: skip the count
+            continue
+        for name, count in Counter(names).items():
             if count > 1:
                 lines = [i.line for i in items if i.name == name]
                 errors.append((lines[1], f"duplicate {kind} name '{name}' (also on line {lines[0]})"))

@@ -114,7 +114,10 @@ def local_transforms(struct: KinematicStructure, q: np.ndarray) -> np.ndarray:
     """
     n = struct.n_links
     moving = struct.coord >= 0
-    value = np.where(moving, struct.mult * q[np.where(moving, struct.coord, 0)] + struct.off, 0.0)
+    if moving.any():
+        value = np.where(moving, struct.mult * q[np.where(moving, struct.coord, 0)] + struct.off, 0.0)
+    else:  # a robot with no movable joint has no coordinates to index
+        value = np.zeros(n)
     rev = struct.jtype == REVOLUTE
     s = np.where(rev, np.sin(value), 0.0)[:, None, None]
     c1 = np.where(rev, 1.0 - np.cos(value), 0.0)[:, None, None]

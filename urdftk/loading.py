@@ -40,7 +40,7 @@ def uses_xacro(root: etree._Element, text: str | None = None) -> bool:
     """
     if text is not None:
         bare = _COMMENT.sub("", text) if "<!--" in text else text
-        if "${" not in bare and "<xacro:" not in bare:
+        if ("$" not in bare or "${" not in bare) and "<xacro:" not in bare:  # "$" alone is a fast scan
             return False
     return bool(_XACRO_ELEMENT(root)) or bool(_SUBSTITUTION(root))
 
@@ -82,11 +82,14 @@ def expand(
     else:
         p = Path(path_or_text)
         try:
-            text = p.read_text(encoding="utf-8")
+            with open(p, "rb") as fh:  # as p.read_text(encoding="utf-8"), without a text layer
+                text = fh.read().decode("utf-8")
         except FileNotFoundError:
             raise ResourceError(f"{p}: no such file") from None
         except (OSError, UnicodeDecodeError) as exc:
             raise ResourceError(f"{p}: cannot read: {exc}") from None
+        if "\r" in text:  # universal newlines, as text mode reads
+            text = text.replace("\r\n", "\n").replace("\r", "\n")
         filename = str(p)
     resolver = PackageResolver(pkg_paths, source=filename)
     if not args and not (filename or "").endswith(".xacro"):

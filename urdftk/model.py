@@ -23,6 +23,7 @@ world frame (:attr:`Robot.world_frame`) with a floating base.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -32,7 +33,7 @@ import numpy as np
 from urdftk import kinematics
 from urdftk._config import ConfigSpace, Limits
 from urdftk._engine import Engine, Kernels
-from urdftk._pinmap import build_pinmap
+from urdftk._pinmap import check_joints, frame_ids
 from urdftk._structure import build_structure
 from urdftk.description import Description
 from urdftk.errors import ConfigurationError, DescriptionError, LinkNotFound
@@ -81,31 +82,34 @@ class Robot:
         self.floating_base = floating_base
         self._s = s = build_structure(description, floating_base)
         try:
-            if floating_base:
-                self.model = pin.buildModelFromXML(description.text, pin.JointModelFreeFlyer())
-            else:
-                self.model = pin.buildModelFromXML(description.text)
+            root_joint = (pin.JointModelFreeFlyer(),) if floating_base else ()
+            self.model = pin.buildModelFromXML(description.text, *root_joint)
         except Exception as exc:  # Pinocchio raises bare ValueError/RuntimeError
             raise DescriptionError(f"Pinocchio cannot build the model: {exc}", description.filename) from None
-        self._map = build_pinmap(s, self.model, description.filename)
+        check_joints(s, self.model, description.filename)
         self.link_names: tuple[str, ...] = s.link_names
         self.root_link: str = s.link_names[0]
         self.world_frame: str | None = s.world_frame
         self.joint_names: tuple[str, ...] = s.coord_names
-        self._cfg = cfg = ConfigSpace(self.name, s)
-        self.mimic: dict[str, tuple[str, float, float]] = cfg.mimic
-        self.limits: Limits = cfg.limits
         self._link_index = {n: i for i, n in enumerate(s.link_names)}
-        self._frame_id = {}
-        for link in s.link_names:
-            fid = self.model.getFrameId(link, pin.BODY)
-            if fid >= self.model.nframes:
-                raise DescriptionError(f"Pinocchio has no frame for link '{link}'", description.filename)
-            self._frame_id[link] = fid
+        self._frame_id = frame_ids(self.model, s.link_names, pin.BODY, description.filename)
         self._all_links = np.arange(s.n_links)
-        self._all_plan = kinematics.make_plan(s, self._all_links)
-        self._engine = Engine(self.name, s, self.model)
+        self._engine = Engine(self.name, s, self.model, description.filename)
         self._kern: Kernels | None = None
+
+    @functools.cached_property  # this and the next two: built on first use (twice is harmless)
+    def _cfg(self) -> ConfigSpace:
+        return ConfigSpace(self.name, self._s)
+
+    @functools.cached_property
+    def mimic(self) -> dict[str, tuple[str, float, float]]:
+        """Mimic follower -> ``(master, multiplier, offset)`` (chains resolved to the root master)."""
+        return self._cfg.mimic
+
+    @functools.cached_property
+    def limits(self) -> Limits:
+        """Joint limits over :attr:`joint_names`."""
+        return self._cfg.limits
 
     @property
     def description(self) -> Any:
@@ -225,7 +229,7 @@ class Robot:
             return out
         u = self._coerce(q)
         out = np.empty((1, self._s.n_links, 4, 4))
-        kinematics.fk_batch(self._s, u[None, :], self._all_links, out, backend, plan=self._all_plan)
+        kinematics.fk_batch(self._s, u[None, :], self._all_links, out, backend, plan=self._engine.plan())
         return out[0]
 
     def frame_pose(self, name: str, q: Any) -> np.ndarray:
@@ -262,7 +266,7 @@ class Robot:
             return kinematics.fk_chain(self._s, kinematics.local_transforms(self._s, u), i)
         import pinocchio as pin
 
-        pq = self._map.to_pin(u)
+        pq = self._engine.pinmap().to_pin(u)
         with self._engine.lock:
             pin.forwardKinematics(self.model, self._engine.pin_data(), pq)
             return pin.updateFramePlacement(
@@ -320,23 +324,21 @@ class Robot:
             raise ConfigurationError(f"reference must be one of {', '.join(_REFERENCES)}, not {reference!r}")
         self._link(frame)
         u = self._coerce(q)
-        rf = {
-            "world": pin.ReferenceFrame.WORLD,
-            "local": pin.ReferenceFrame.LOCAL,
-            "local_world_aligned": pin.ReferenceFrame.LOCAL_WORLD_ALIGNED,
-        }[reference]
+        rf = getattr(pin.ReferenceFrame, reference.upper())  # WORLD, LOCAL, LOCAL_WORLD_ALIGNED
+        pmap = self._engine.pinmap()
         with self._engine.lock:
             data = self._engine.pin_data()
-            J = pin.computeFrameJacobian(self.model, data, self._map.to_pin(u), self._frame_id[frame], rf)
-        return np.asarray(J).reshape(6, self.model.nv) @ self._map.velocity_map(u)
+            J = pin.computeFrameJacobian(self.model, data, pmap.to_pin(u), self._frame_id[frame], rf)
+        return np.asarray(J).reshape(6, self.model.nv) @ pmap.velocity_map(u)
 
     def com(self, q: Any) -> np.ndarray:
         """Return the centre of mass (3,) in the root (world) frame, metres."""
         import pinocchio as pin
 
         u = self._coerce(q)
+        pq = self._engine.pinmap().to_pin(u)
         with self._engine.lock:
-            return np.array(pin.centerOfMass(self.model, self._engine.pin_data(), self._map.to_pin(u)))
+            return np.array(pin.centerOfMass(self.model, self._engine.pin_data(), pq))
 
     # ----------------------------------------------------------------- batched FK
     def fk_batch(
@@ -374,7 +376,7 @@ class Robot:
         if not np.all(np.isfinite(Qa)):
             raise ConfigurationError(f"{self.name}: Q contains NaN or inf")
         if links is None:
-            idx, plan = self._all_links, self._all_plan
+            idx, plan = self._all_links, self._engine.plan()
         else:
             if isinstance(links, str):
                 raise ConfigurationError("links must be a sequence of link names, not one string")

@@ -201,7 +201,13 @@ class PackageResolver:
         use_installed: bool = True,
     ) -> None:
         env = os.environ if environ is None else environ
-        self.source = Path(source).resolve() if source is not None else None
+        # Made absolute now, resolved on first use (realpath costs a system call per component).
+        src = source if source is None or isinstance(source, str) else Path(source)
+        if src is not None and not os.path.isabs(src):
+            src = os.path.join(os.getcwd(), src)
+        self._source_arg: str | Path | None = src
+        self._source: Path | None = None
+        self._use_installed = use_installed
         self._found: dict[str, Path] = {}
         places: list[_Place] = []
         for p in package_paths:
@@ -213,27 +219,45 @@ class PackageResolver:
         for p in filter(None, env.get("AMENT_PREFIX_PATH", "").split(os.pathsep)):
             path = Path(p).expanduser()
             places.append(_Place(f"AMENT_PREFIX_PATH {path}", lambda path=path: _ament_packages(path)))
-        if self.source is not None:
-            pkg = _enclosing_package(self.source)
-            if pkg is not None:
-                ws = pkg.parent
-                places.append(
-                    _Place(
-                        f"workspace of {self.source.name}: {ws}",
-                        lambda pkg=pkg, ws=ws: {
-                            **crawl_packages(ws),
-                            _package_name(pkg): pkg,
-                        },
+        self._head = places
+        self._all: list[_Place] | None = None
+
+    @property
+    def source(self) -> Path | None:
+        """The input file (absolute, symlinks resolved), or None."""
+        if self._source is None and self._source_arg is not None:
+            self._source = Path(self._source_arg).resolve()
+        return self._source
+
+    @property
+    def _places(self) -> list[_Place]:
+        """Every search place in order; the workspace and installed ones are found on first use."""
+        if self._all is None:
+            places = list(self._head)
+            source = self.source
+            if source is not None:
+                pkg = _enclosing_package(source)
+                if pkg is not None:
+                    ws = pkg.parent
+                    places.append(
+                        _Place(
+                            f"workspace of {source.name}: {ws}",
+                            lambda pkg=pkg, ws=ws: {
+                                **crawl_packages(ws),
+                                _package_name(pkg): pkg,
+                            },
+                        )
                     )
-                )
-        if use_installed:
-            for prefix in installed_prefixes():
-                places.append(
-                    _Place(
-                        f"installed packages in {prefix / 'share'}", lambda p=prefix: _installed_packages(p)
+            if self._use_installed:
+                for prefix in installed_prefixes():
+                    places.append(
+                        _Place(
+                            f"installed packages in {prefix / 'share'}",
+                            lambda p=prefix: _installed_packages(p),
+                        )
                     )
-                )
-        self._places = places
+            self._all = places
+        return self._all
 
     def search_places(self) -> list[str]:
         """Describe every place searched, in search order."""

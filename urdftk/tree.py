@@ -7,7 +7,6 @@ It never raises on malformed structure; it records what it sees, and callers dec
 
 from __future__ import annotations
 
-from collections import defaultdict
 from dataclasses import dataclass, field
 
 from lxml import etree
@@ -80,9 +79,24 @@ class TreeInfo:
         return next((link.line for link in self.links if link.name == name), None)
 
 
-def _child_text(el: etree._Element, tag: str, attr: str) -> str:
-    sub = el.find(tag)
-    return (sub.get(attr) or "") if sub is not None else ""
+def _joint_info(el: etree._Element) -> JointInfo:
+    """The :class:`JointInfo` of a ``<joint>``: its first ``<parent>`` and ``<child>``, in one pass."""
+    parent = child = None
+    for sub in el:
+        tag = sub.tag
+        if tag == "parent":
+            if parent is None:
+                parent = sub
+        elif tag == "child" and child is None:
+            child = sub
+    return JointInfo(
+        el.get("name") or "",
+        el.get("type") or "",
+        (parent.get("link") or "") if parent is not None else "",
+        (child.get("link") or "") if child is not None else "",
+        el.sourceline,
+        el,
+    )
 
 
 def read_tree(root: etree._Element) -> TreeInfo:
@@ -94,35 +108,32 @@ def read_tree(root: etree._Element) -> TreeInfo:
     Returns:
         The structure; validity is judged by the caller.
     """
-    links = [
-        LinkInfo(el.get("name") or "", el.sourceline, el)
-        for el in root
-        if isinstance(el.tag, str) and el.tag == "link"
-    ]
-    joints = [
-        JointInfo(
-            el.get("name") or "",
-            el.get("type") or "",
-            _child_text(el, "parent", "link"),
-            _child_text(el, "child", "link"),
-            el.sourceline,
-            el,
-        )
-        for el in root
-        if isinstance(el.tag, str) and el.tag == "joint"
-    ]
+    links: list[LinkInfo] = []
+    joints: list[JointInfo] = []
+    parent_joint: dict[str, list[JointInfo]] = {}
+    children: dict[str, list[JointInfo]] = {}
+    for el in root:  # comments and processing instructions have a non-str tag: never equal
+        tag = el.tag
+        if tag == "link":
+            links.append(LinkInfo(el.get("name") or "", el.sourceline, el))
+        elif tag == "joint":
+            j = _joint_info(el)
+            joints.append(j)
+            if j.child in parent_joint:
+                parent_joint[j.child].append(j)
+            else:
+                parent_joint[j.child] = [j]
+            if j.parent in children:
+                children[j.parent].append(j)
+            else:
+                children[j.parent] = [j]
     info = TreeInfo(name=root.get("name") or "", links=links, joints=joints)
-    parent_joint: dict[str, list[JointInfo]] = defaultdict(list)
-    children: dict[str, list[JointInfo]] = defaultdict(list)
-    for j in joints:
-        parent_joint[j.child].append(j)
-        children[j.parent].append(j)
-    info.parent_joint = dict(parent_joint)
-    info.children = dict(children)
+    info.parent_joint = parent_joint
+    info.children = children
     link_names = list(dict.fromkeys(link.name for link in links))
     info.roots = [n for n in link_names if n not in parent_joint]
-    info.cycle = _find_cycle(link_names, info.parent_joint)
-    info.depth = _depth(info.roots, info.children) if not info.cycle else 0
+    info.cycle = _find_cycle(link_names, parent_joint)
+    info.depth = _depth(info.roots, children) if not info.cycle else 0
     return info
 
 
@@ -152,7 +163,10 @@ def _depth(roots: list[str], children: dict[str, list[JointInfo]]) -> int:
         if link in seen:
             continue
         seen.add(link)
-        best = max(best, d)
-        for j in children.get(link, ()):
-            stack.append((j.child, d + 1))
+        if d > best:
+            best = d
+        kids = children.get(link)
+        if kids:
+            d += 1
+            stack.extend((j.child, d) for j in kids)
     return best

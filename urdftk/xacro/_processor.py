@@ -160,7 +160,11 @@ class Expander(Tags):
                         self.eval_all(node, macros, symbols)
                         # nested edits can only take the shared blank node out of this list
                         if i >= len(children) or children[i] is not node:
-                            i = children.index(node)
+                            i = (
+                                i - 1
+                                if 0 < i <= len(children) and children[i - 1] is node
+                                else children.index(node)
+                            )
                         i += 1
                         continue
                     n_before = len(children)

@@ -14,7 +14,7 @@ from urdftk.errors import XacroError, close_names
 from urdftk.xacro._context import Context, IncludeIOError
 from urdftk.xacro._macros import Macro, first_element, tree_size
 from urdftk.xacro._scope import NameSpace, Scope
-from urdftk.xacro._tree import Comment, Element, Text, clone, parse_xml
+from urdftk.xacro._tree import Comment, Element, Text, clone, mark_static, parse_xml
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -90,6 +90,7 @@ class Tags(Context):
         self.hint = 0  # likely index of the node a tag handler works on
         self.include_keys: list[str] = []
         self.copied = 0
+        self.parsed: dict[str, Element | None] = {}  # included file -> its shared tree, if included again
 
     def eval_all(self, node: Element, macros: Scope, symbols: Scope) -> None:  # pragma: no cover
         raise NotImplementedError
@@ -142,8 +143,14 @@ class Tags(Context):
                     del children[k]
                     if k < i:
                         i -= 1
-                elif old is not None:
-                    old.children.remove(empty)
+                elif old is not None:  # usually near the end of its list: search backwards
+                    others = old.children
+                    k = len(others) - 1
+                    while k >= 0 and others[k] is not empty:
+                        k -= 1
+                    if k < 0:
+                        others.remove(empty)  # not there: ValueError, as before
+                    del others[k]
                 children.insert(i + 1, empty)
                 empty.parent = parent
             self.hint = i
@@ -204,7 +211,7 @@ class Tags(Context):
             self.include_sites.append(node)
             self.include_keys.append(key)
             try:
-                _, root = self.parse_file(name)
+                root = self._parse_include(name)
             except IncludeIOError:
                 self.files.pop()
                 self.include_sites.pop()
@@ -221,6 +228,22 @@ class Tags(Context):
         self.hint = hint
         self._drop_comments(parent, node)
         self._replace(parent, node, roots)
+
+    def _parse_include(self, name: str) -> Element:
+        """A fresh tree of an included file; a file included again is parsed once more, not again.
+
+        Most files are included once: they are parsed and walked in place. The second inclusion
+        keeps its tree, marked for sharing like a macro body, and every inclusion copies it.
+        """
+        tree = self.parsed.get(name)
+        if tree is None:
+            _, tree = self.parse_file(name)
+            if name not in self.parsed:
+                self.parsed[name] = None
+                return tree
+            mark_static(tree)  # shared from now on: the walk copies what it edits
+            self.parsed[name] = tree
+        return clone(tree)
 
     def _check_include_cycle(self, name: str) -> str:
         key = os.path.normpath(os.path.abspath(self.open_path(name)))
