@@ -41,7 +41,7 @@ def best_of(fn, repeat: int = 5, number: int = 1) -> float:
 
 def bench_single(robot, q) -> None:
     model, data = robot.model, robot.model.createData()
-    pq = robot._map.to_pin(q)  # the Pinocchio q of the same configuration
+    pq = robot._engine.pinmap().to_pin(q)  # the Pinocchio q of the same configuration
     link = robot.link_names[-1]
     fid = model.getFrameId(link, pin.BODY)
     body_ids = [model.getFrameId(n, pin.BODY) for n in robot.link_names]
@@ -85,7 +85,7 @@ def bench_batch(robot, path, n: int) -> None:
     Q = np.array([robot.random(rng) for _ in range(min(n, 20000))])
     Q = np.resize(Q, (n, robot.dof))
     model, data = robot.model, robot.model.createData()
-    pqs = [robot._map.to_pin(q) for q in Q[:20000]]
+    pqs = [robot._engine.pinmap().to_pin(q) for q in Q[:20000]]
 
     def pin_loop():
         for pq in pqs:
