@@ -12,21 +12,12 @@ import math
 import threading
 
 import pytest
-from tf_oracle_client import compare, run_oracle, run_ours
+from tf_oracle_client import agree
 
 import tf
 from tf import _core
 
 SQ = math.sqrt(0.5)
-
-
-def agree(ops: list[dict]) -> list[dict]:
-    """Run ``ops`` on tf2 and on us, assert every result agrees, return ours."""
-    theirs = run_oracle(ops)
-    ours = run_ours(ops)
-    problems = [f"{op}: {d}" for op, a, b in zip(ops, ours, theirs, strict=True) if (d := compare(op, a, b))]
-    assert not problems, "\n".join(problems)
-    return ours
 
 
 def ts(parent: str, child: str, sec: float, t=(0.0, 0.0, 0.0), q=(0.0, 0.0, 0.0, 1.0)) -> tf.TransformStamped:

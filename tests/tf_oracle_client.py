@@ -469,3 +469,13 @@ def generate_dense(seed: int, n_ops: int, max_frames: int = 30) -> list[dict[str
                      "source_time": rng.choice([0, t]), "fixed": rng.choice(names)}
                 )  # fmt: skip
     return ops[:n_ops]
+
+
+def agree(ops: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Run ``ops`` on real tf2 and on ``tf``, assert every result agrees, and return ours."""
+    theirs = run_oracle(ops)
+    ours = run_ours(ops)
+    pairs = zip(ops, ours, theirs, strict=True)
+    problems = [f"op {a['i']} {op}: {d}" for op, a, b in pairs if (d := compare(op, a, b))]
+    assert not problems, f"{len(problems)} disagreements, first ones:\n" + "\n".join(problems[:15])
+    return ours

@@ -183,9 +183,7 @@ class Buffer:
         tt = _time_ns(target_time)
         ts = _time_ns(source_time)
         if timeout is not None:
-            deadline = _time.monotonic() + _seconds(timeout, "timeout")
-            self._wait(target_frame, fixed_frame, tt, deadline - _time.monotonic())
-            self._wait(fixed_frame, source_frame, ts, deadline - _time.monotonic())
+            self._wait_full(target_frame, tt, source_frame, ts, fixed_frame, timeout)
         code, r = self._core.lookup_full(target_frame, tt, source_frame, ts, fixed_frame)
         if code:
             raise _EXCEPTIONS[code](r)
@@ -249,9 +247,7 @@ class Buffer:
             tt = _time_ns(target_time)
             ts = _time_ns(source_time)
             if timeout is not None:
-                deadline = _time.monotonic() + _seconds(timeout, "timeout")
-                self._wait(target_frame, fixed_frame, tt, deadline - _time.monotonic())
-                self._wait(fixed_frame, source_frame, ts, deadline - _time.monotonic())
+                self._wait_full(target_frame, tt, source_frame, ts, fixed_frame, timeout)
         except TransformException:
             return False
         return not self._core.can_transform_full_reason(target_frame, tt, source_frame, ts, fixed_frame)
@@ -281,6 +277,14 @@ class Buffer:
         return do_transform(obj, self.lookup_transform(target_frame, h.frame_id, h.stamp, timeout))
 
     # ------------------------------------------------------------------ waiting
+    def _wait_full(
+        self, target: str, tt: int, source: str, ts: int, fixed: str, timeout: Duration | float
+    ) -> None:
+        """Wait for both legs of a time-travel lookup (target<-fixed at tt, fixed<-source at ts)."""
+        deadline = _time.monotonic() + _seconds(timeout, "timeout")
+        self._wait(target, fixed, tt, deadline - _time.monotonic())
+        self._wait(fixed, source, ts, deadline - _time.monotonic())
+
     def wait_for_transform(
         self, target_frame: str, source_frame: str, time: Time = _TIME_ZERO, timeout: Duration | float = 1.0
     ) -> None:
