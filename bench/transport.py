@@ -8,6 +8,12 @@ Measures, for a TFMessage of 30 transforms (CDR, 2.6 kB):
 - sustained messages/s with no loss (publisher sends as fast as it can, subscriber counts);
 - CPU per side at 1 kHz (process CPU time / wall time, in % of one core); the publisher's figure
   includes building the messages with the public constructors, which is also shown on its own;
+- the floor under those CPU figures, measured in the same run: a bare publisher loop that only
+  paces itself at the rate (no sending), and bare Zenoh (``zenoh-raw``: the same session
+  configuration, a prebuilt payload put with a 33-byte attachment, a callback that only reads the
+  stamp), i.e. what any Python program moving these bytes over Zenoh pays before urdftk's code;
+- the tf listener side (``listener``): urdftk's publisher, and on the other side a
+  ``tf.TransformListener`` storing every transform in a ``tf.Buffer`` (what a tf user runs);
 - end to end: JointState -> RobotStatePublisher (own process) -> /tf -> Buffer lookup latency.
 Both transports use the same codec, so the ratios compare the transports themselves.
 """
@@ -54,9 +60,21 @@ def _message(k: int) -> TFMessage:
 
 
 # ------------------------------------------------------------------------------------ child roles
+def _raw_key(domain: int) -> str:
+    return f"urdftk_bench/{domain}/raw"
+
+
+def _raw_session():
+    import zenoh
+
+    from tf.transport._zconfig import session_config
+
+    return zenoh.open(session_config(environ={}))
+
+
 def _child(kind: str, rate: float, count: int, port: int, domain: int) -> None:
     """Publish ``count`` messages at ``rate`` (0: flat out), then report CPU use."""
-    if kind == "zenoh":
+    if kind in ("zenoh", "listener"):
         from tf.transport.zenoh import ZenohTransport
 
         bus = ZenohTransport(domain_id=domain, environ={})
@@ -64,6 +82,25 @@ def _child(kind: str, rate: float, count: int, port: int, domain: int) -> None:
         pub.wait_for_subscribers(20)
         time.sleep(0.5)
         send = pub.publish
+    elif kind == "zenoh-raw":
+        import zenoh
+
+        session = _raw_session()
+        zpub = session.declare_publisher(
+            _raw_key(domain),
+            congestion_control=zenoh.CongestionControl.BLOCK,
+            reliability=zenoh.Reliability.RELIABLE,
+        )
+        body = _cdr.encode(_message(0))[8:]
+        attachment = bytes(33)
+        time.sleep(2.0)  # discovery (no matching listener in this bare setup)
+
+        def send(_msg: object) -> None:
+            zpub.put(time.time_ns().to_bytes(8, "little") + body, attachment=attachment)
+    elif kind == "pace":
+
+        def send(_msg: object) -> None:
+            pass
     else:
         import zmq
 
@@ -84,7 +121,7 @@ def _child(kind: str, rate: float, count: int, port: int, domain: int) -> None:
             delay = wall0 + k * period - time.perf_counter()
             if delay > 0:
                 time.sleep(delay)
-        send(_message(k))
+        send(k if kind in ("zenoh-raw", "pace") else _message(k))
     cpu, wall = time.process_time() - cpu0, time.perf_counter() - wall0
     build0 = time.process_time()
     for k in range(count):  # what building the messages alone costs (the application's share)
@@ -163,6 +200,39 @@ def _run(kind: str, rate: float, count: int) -> dict:
         bus.subscribe("/tf", TFMessage, on_message)
         closer = bus.close
         child = _spawn("_pub", kind, str(rate), str(count), str(port), str(domain))
+    elif kind == "listener":
+        import tf
+        from tf.transport.zenoh import ZenohTransport
+
+        bus = ZenohTransport(domain_id=domain, environ={})
+        buffer = tf.Buffer()
+        listener = tf.TransformListener(buffer, bus)
+        last = CHILDREN[-1]
+
+        def count_stored() -> None:  # the buffer holds every message's stamp for the last frame
+            stamps = buffer._core._caches[buffer._core._ids[last]].stamps
+            latencies.extend([0] * len(stamps))
+            done.set()
+
+        closer = lambda: (count_stored(), listener.close(), bus.close())  # noqa: E731
+        child = _spawn("_pub", kind, str(rate), str(count), str(port), str(domain))
+    elif kind == "zenoh-raw":
+        import zenoh
+
+        session = _raw_session()
+
+        def on_raw(sample: zenoh.Sample) -> None:
+            latencies.append(time.time_ns() - int.from_bytes(sample.payload.to_bytes()[:8], "little"))
+            if len(latencies) >= count:
+                done.set()
+
+        zsub = session.declare_subscriber(_raw_key(domain), zenoh.handlers.Callback(on_raw, indirect=False))
+        closer = lambda: (zsub.undeclare(), session.close())  # noqa: E731
+        child = _spawn("_pub", kind, str(rate), str(count), str(port), str(domain))
+    elif kind == "pace":
+        done.set()
+        closer = lambda: None  # noqa: E731
+        child = _spawn("_pub", kind, str(rate), str(count), str(port), str(domain))
     else:
         import zmq
 
@@ -184,7 +254,7 @@ def _run(kind: str, rate: float, count: int) -> dict:
         _wait_line(child, "go")
         cpu0, wall0 = time.process_time(), time.perf_counter()
         report = _wait_line(child, "cpu")
-        done.wait(10)
+        done.wait(10 if kind != "listener" else 0.2)
         wall = time.perf_counter() - wall0
         sub_cpu = (time.process_time() - cpu0) / wall * 100
     finally:
@@ -280,13 +350,28 @@ def main() -> None:
                 f"  sub {r['sub_cpu']:.1f}%",
                 flush=True,
             )
-    for kind in ("zenoh", "zmq"):
-        results[kind, 0.0] = r = _run(kind, 0.0, args.burst)
-        print(
-            f"{kind:5s} flat out: received {r['received']}/{r['sent']}  {r['msgs_per_s']:.0f} msgs/s sent"
-            f"  (lost {r['sent'] - r['received']})",
-            flush=True,
-        )
+    n = int(1000 * args.seconds)
+    pace = _run("pace", 1000.0, n)
+    raw = _run("zenoh-raw", 1000.0, n)
+    lis = _run("listener", 1000.0, n)
+    print(
+        f"floor at 1 kHz: pacing loop alone {pace['pub_cpu']:.1f}%;"
+        f"  bare Zenoh (prebuilt bytes, no-op callback): got {raw['received']}/{raw['sent']}"
+        f"  p50 {raw['p50_us']:.0f} us  p99 {raw['p99_us']:.0f} us"
+        f"  cpu pub {raw['pub_cpu']:.1f}%  sub {raw['sub_cpu']:.1f}%",
+        flush=True,
+    )
+    print(
+        f"tf listener at 1 kHz (TransformListener -> Buffer): stored {lis['received']}/{lis['sent']}"
+        f"  cpu pub {lis['pub_cpu']:.1f}% (msgs {lis['pub_build']:.1f}%)  sub {lis['sub_cpu']:.1f}%",
+        flush=True,
+    )
+    z = results["zenoh", 1000.0]
+    print(
+        f"urdftk's share at 1 kHz (ours minus bare Zenoh): pub {z['pub_cpu'] - raw['pub_cpu']:.1f}%"
+        f" (of which building messages {z['pub_build']:.1f}%)  sub {z['sub_cpu'] - raw['sub_cpu']:.1f}%",
+        flush=True,
+    )
     z, q = results["zenoh", 1000.0], results["zmq", 1000.0]
     throughput = results["zenoh", 0.0]["msgs_per_s"] / results["zmq", 0.0]["msgs_per_s"]
     print(

@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import logging
 import os
+import subprocess
 import sys
 import threading
 import time
@@ -220,3 +221,22 @@ def test_publishing_checks_type_and_closed_transport_is_inert() -> None:
         bus.subscribe("/tf", TFMessage, print)
     with pytest.raises(ValueError, match="ROS_DOMAIN_ID"):
         ZenohTransport(environ={"ROS_DOMAIN_ID": "abc"})
+
+
+def test_process_that_never_closes_its_transport_exits_promptly() -> None:
+    """No Zenoh callback may run on a non-daemon thread: Python joins those before atexit runs."""
+    code = (
+        "import sys\n"
+        "from tf.messages import TFMessage\n"
+        "from tf.transport.zenoh import ZenohTransport\n"
+        f"bus = ZenohTransport(domain_id={unique_domain()}, environ={{}})\n"
+        "pub = bus.publisher('/tf', TFMessage)\n"
+        "sub = bus.subscribe('/tf', TFMessage, print)\n"
+        "print('matched', pub.wait_for_subscribers(10), flush=True)\n"
+        "pub.publish(TFMessage(()))\n"
+    )
+    start = time.monotonic()
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert "matched True" in done.stdout
+    assert time.monotonic() - start < 30

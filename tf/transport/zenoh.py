@@ -135,7 +135,11 @@ class ZenohPublisher(Publisher[M]):
             return not self.closed
         with self._matching:
             if self._listener is None:
-                self._listener = self._zpub.declare_matching_listener(self._on_matching)
+                # indirect=False, as for subscriptions: an indirect callback runs on a non-daemon
+                # thread, and a process that never closed its transport would hang at exit.
+                self._listener = self._zpub.declare_matching_listener(
+                    zenoh.handlers.Callback(self._on_matching, indirect=False)
+                )
                 self._matched = self._zpub.matching_status.matching
             return self._matching.wait_for(lambda: self._matched or self.closed, timeout) and not self.closed
 
