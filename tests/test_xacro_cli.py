@@ -132,3 +132,78 @@ def test_usage_errors_are_one_line():
     run = urdftk("/no/such/file.xacro")
     assert run.returncode == 2
     assert run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
+
+
+QUICK_FORMS = [
+    ["r.xacro"],
+    ["r.xacro", "a:=1", "b:=x y"],
+    ["-", "a:=1"],
+    ["r.xacro", "-o", "out.urdf"],
+    ["-o", "out.urdf", "r.xacro", "a:=1"],
+    ["r.xacro", "a:=1", "--output=o.urdf", "--deps", "-q"],
+    ["--quiet", "-p", "ws1", "--package-path", "ws2", "--package-path=ws3", "r.xacro"],
+    ["r.xacro", "-o", "a", "-o", "b"],
+    ["", "a:=1"],
+    ["--output=", "r.xacro"],
+]
+ARGPARSE_FORMS = [
+    [],
+    ["-h"],
+    ["--help"],
+    ["r.xacro", "-o"],
+    ["r.xacro", "-o", "-q"],
+    ["r.xacro", "-x"],
+    ["r.xacro", "--dep"],
+    ["r.xacro", "-o", "out", "a:=1"],
+    ["r.xacro", "-qo", "out"],
+    ["r.xacro", "-oout"],
+    ["-o=out", "r.xacro"],
+    ["--", "r.xacro"],
+    ["r.xacro", "-1"],
+    ["--version"],
+]
+
+
+def _argparse(argv: list[str]) -> dict | None:
+    from urdftk.cli import _build_parser
+
+    try:
+        ns = _build_parser("xacro").parse_args(["xacro", *argv])
+    except SystemExit:
+        return None
+    return {k: getattr(ns, k) for k in ("input", "mappings", "output", "deps", "quiet", "package_path")}
+
+
+@pytest.mark.parametrize("argv", QUICK_FORMS + ARGPARSE_FORMS, ids=lambda a: " ".join(a) or "<none>")
+def test_quick_args_agree_with_argparse(argv: list[str], capsys):
+    """The argparse-free parser of ``urdftk xacro`` takes the common forms, exactly as argparse does.
+
+    argparse is the oracle: where the quick parser answers, its answer equals argparse's; the
+    common forms must get an answer (start-up time), everything else is left to argparse.
+    """
+    from urdftk.cli.cmd_xacro import quick_args, run
+
+    quick = quick_args(list(argv))
+    expected = _argparse(list(argv))
+    capsys.readouterr()
+    if argv in QUICK_FORMS:
+        assert quick is not None, argv
+        assert expected is not None, argv
+    if quick is not None:
+        got = {k: getattr(quick, k) for k in ("input", "mappings", "output", "deps", "quiet", "package_path")}
+        assert got == expected
+        assert (quick.command, quick.func) == ("xacro", run)
+
+
+def test_xacro_command_start_imports_little(tmp_path: Path):
+    """``urdftk xacro`` must start fast: no argparse, yaml, numpy or package resolver for a plain file."""
+    doc = tmp_path / "r.xacro"
+    doc.write_text(f'<r {NS}><xacro:property name="w" value="2"/><a b="${{w * 3}}"/></r>')
+    code = (
+        "import sys; from urdftk.cli import main; rc = main(['xacro', sys.argv[1]]); "
+        "heavy = ('argparse', 'yaml', 'numpy', 'urdftk.resources', 'urdftk.xacro._subst'); "
+        "print(rc, sorted(m for m in heavy if m in sys.modules), file=sys.stderr)"
+    )
+    run = subprocess.run([sys.executable, "-c", code, str(doc)], capture_output=True, text=True, timeout=60)
+    assert '<a b="6"/>' in run.stdout
+    assert run.stderr.strip() == "0 []"

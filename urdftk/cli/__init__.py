@@ -10,32 +10,38 @@ Every error a user can cause ends as one line on stderr and exit status 2, never
 
 from __future__ import annotations
 
-import argparse
-import contextlib
-import importlib
 import os
 import sys
-from collections.abc import Sequence
+
+TYPE_CHECKING = False  # as typing.TYPE_CHECKING, without importing typing at start-up
+if TYPE_CHECKING:
+    import argparse
+    from collections.abc import Sequence
 
 __all__ = ["COMMANDS", "main"]
 
 
-class _Parser(argparse.ArgumentParser):
-    """ArgumentParser whose usage errors are one line and exit 2.
+def _parser_class() -> type[argparse.ArgumentParser]:
+    """The ArgumentParser subclass of the CLI (argparse is imported only when a parser is built).
 
-    Its help formatter gets a fixed width (``COLUMNS``, else 100): argparse would otherwise
-    import ``shutil`` to measure the terminal on every ``add_argument``, which is start-up time.
+    Its usage errors are one line and exit 2. Its help formatter gets a fixed width
+    (``COLUMNS``, else 100): argparse would otherwise import ``shutil`` to measure the terminal
+    on every ``add_argument``, which is start-up time.
     """
+    import argparse
 
-    def _get_formatter(self) -> argparse.HelpFormatter:
-        try:
-            width = int(os.environ.get("COLUMNS", "100")) - 2
-        except ValueError:
-            width = 98
-        return self.formatter_class(prog=self.prog, width=max(width, 40))
+    class _Parser(argparse.ArgumentParser):
+        def _get_formatter(self) -> argparse.HelpFormatter:
+            try:
+                width = int(os.environ.get("COLUMNS", "100")) - 2
+            except ValueError:
+                width = 98
+            return self.formatter_class(prog=self.prog, width=max(width, 40))
 
-    def error(self, message: str) -> None:  # type: ignore[override]
-        self.exit(2, f"{self.prog}: error: {message}\n")
+        def error(self, message: str) -> None:  # type: ignore[override]
+            self.exit(2, f"{self.prog}: error: {message}\n")
+
+    return _Parser
 
 
 COMMANDS: dict[str, str] = {
@@ -58,14 +64,17 @@ COMMANDS: dict[str, str] = {
 
 def _build_parser(only: str | None = None) -> argparse.ArgumentParser:
     """Build the parser; with ``only``, register just the module of that subcommand (fast start)."""
-    parser = _Parser(
+    import importlib
+
+    parser_class = _parser_class()
+    parser = parser_class(
         prog="urdftk",
         description="Robot descriptions, kinematics and frames without ROS.",
     )
     from urdftk import __version__
 
     parser.add_argument("--version", action="version", version=f"urdftk {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=parser_class)
     sub.required = True
     modules = [COMMANDS[only]] if only in COMMANDS else sorted(set(COMMANDS.values()))
     for name in modules:
@@ -93,13 +102,20 @@ def main(argv: Sequence[str] | None = None) -> int:
         The exit status: 0 success, 1 findings (``check``), 2 bad input or failure.
     """
     argv = list(sys.argv[1:] if argv is None else argv)
-    parser = _build_parser(argv[0] if argv else None)
-    args = parser.parse_args(argv)
+    args = None
+    if argv and argv[0] == "xacro":  # the common forms skip argparse (start-up time)
+        from urdftk.cli.cmd_xacro import quick_args
+
+        args = quick_args(argv[1:])
+    if args is None:
+        args = _build_parser(argv[0] if argv else None).parse_args(argv)
     try:
         return int(args.func(args) or 0)
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:
+        import contextlib
+
         with contextlib.suppress(OSError):
             sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - silence the flush at exit
         return 0

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-import argparse
-from collections.abc import Sequence
+TYPE_CHECKING = False  # as typing.TYPE_CHECKING: argparse is not needed to call these helpers
+if TYPE_CHECKING:
+    import argparse
+    from collections.abc import Sequence
 
 __all__ = ["add_package_path_arg", "add_robot_args", "split_mappings"]
 

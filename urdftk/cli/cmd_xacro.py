@@ -7,12 +7,81 @@ error no file is created or truncated.
 
 from __future__ import annotations
 
-import argparse
 import sys
 
 from urdftk.cli._common import add_package_path_arg, split_mappings
 
-__all__ = ["register", "run"]
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    import argparse
+
+__all__ = ["Args", "quick_args", "register", "run"]
+
+_FLAGS = {"--deps": "deps", "-q": "quiet", "--quiet": "quiet"}
+_VALUED = {"-o": "output", "--output": "output", "-p": "package_path", "--package-path": "package_path"}
+
+
+class Args:
+    """The parsed arguments of ``urdftk xacro`` (as the argparse namespace :func:`register` gives)."""
+
+    command = "xacro"
+
+    def __init__(self) -> None:
+        self.input: str = ""
+        self.mappings: list[str] = []
+        self.output: str | None = None
+        self.deps = False
+        self.quiet = False
+        self.package_path: list[str] = []
+        self.func = run
+
+
+def quick_args(argv: list[str]) -> Args | None:
+    """Parse the common forms of the arguments without argparse (its import is start-up time).
+
+    Args:
+        argv: The words after ``xacro``.
+
+    Returns:
+        The arguments, exactly as argparse would parse them; None for anything else (help, an
+        unknown or abbreviated option, a missing input, positionals split by an option...), which
+        then goes through argparse and gets its messages.
+    """
+    args = Args()
+    words: list[str] = []
+    block = 0  # positional blocks seen: argparse rejects words after an option once IN is taken
+    prev_positional = False
+    i = 0
+    while i < len(argv):
+        word = argv[i]
+        i += 1
+        if word[:1] != "-" or word == "-":
+            if not prev_positional:
+                block += 1
+            prev_positional = True
+            words.append(word)
+            continue
+        prev_positional = False
+        if word in _FLAGS:
+            setattr(args, _FLAGS[word], True)
+            continue
+        name, eq, value = word.partition("=")
+        if name not in _VALUED or (eq and name[:2] != "--"):
+            return None
+        if not eq:
+            if i >= len(argv) or argv[i][:1] == "-":
+                return None
+            value = argv[i]
+            i += 1
+        dest = _VALUED[name]
+        if dest == "package_path":
+            args.package_path.append(value)
+        else:
+            args.output = value
+    if not words or block > 1:
+        return None
+    args.input, args.mappings = words[0], words[1:]
+    return args
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

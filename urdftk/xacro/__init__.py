@@ -32,16 +32,27 @@ class Result:
 
     Attributes:
         text: The document, exactly as stock ``xacro`` prints it.
-        includes: Every file read besides the input (xacro includes and yaml), in first-use order.
+        includes: Every file read besides the input (xacro includes and yaml), in first-use order,
+            as paths (made on first access: most callers only want the text).
         packages: Packages resolved by ``$(find)``: name -> folder.
     """
 
-    __slots__ = ("includes", "packages", "text")
+    __slots__ = ("_includes", "packages", "text")
 
-    def __init__(self, text: str, includes: tuple[Path, ...] = (), packages: dict[str, Path] | None = None):
+    def __init__(self, text: str, includes: Iterable[PathLike] = (), packages: dict[str, Path] | None = None):
         self.text = text
-        self.includes = includes
+        self._includes: tuple = tuple(includes)
         self.packages = dict(packages or {})
+
+    @property
+    def includes(self) -> tuple[Path, ...]:
+        """Every file read besides the input, in first-use order."""
+        found = self._includes
+        if any(p.__class__ is str for p in found):
+            from pathlib import Path
+
+            found = self._includes = tuple(Path(p) for p in found)
+        return found
 
     def __repr__(self) -> str:
         return (
@@ -81,12 +92,25 @@ def expand(
         urdftk.errors.XacroError: With ``file:line`` and the macro/include trace.
         urdftk.errors.PackageNotFound: A ``$(find)`` package is unknown.
     """
+    if (source is None) == (text is None):
+        raise ValueError("give exactly one of source and text")
+    return _expand(source, mappings, text, filename, package_paths, resolver, stderr, verbosity)
+
+
+def _expand(
+    source: PathLike | None,
+    mappings: Mapping[str, str] | None,
+    text: str | None,
+    filename: str | None,
+    package_paths: Iterable[PathLike],
+    resolver: Any,
+    stderr: TextIO | None,
+    verbosity: int,
+) -> Result:
     from urdftk.xacro._output import banner, write_document
     from urdftk.xacro._processor import Expander
     from urdftk.xacro._tree import parse_xml
 
-    if (source is None) == (text is None):
-        raise ValueError("give exactly one of source and text")
     ex = Expander(dict(mappings or {}), tuple(package_paths), resolver, stderr, verbosity)
     if source is not None:
         name = os.fspath(source)
@@ -98,10 +122,7 @@ def expand(
         shown = filename if filename is not None else "<string>"
     top = ex.process(top, root, name)
     out = write_document([*banner(str(shown)), *top])
-    from pathlib import Path
-
-    includes = tuple(Path(p) for p in dict.fromkeys(ex.includes))
-    return Result(out, includes, ex.found_packages())
+    return Result(out, dict.fromkeys(ex.includes), ex.found_packages())
 
 
 def process_file(

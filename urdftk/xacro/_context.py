@@ -12,11 +12,12 @@ from urdftk.errors import PackageNotFound, XacroError, close_names
 from urdftk.xacro._eval import REFUSED_NAMES, SandboxError, compile_expr
 from urdftk.xacro._lexer import EXPR, SUBST, TEXT, tokenize
 from urdftk.xacro._scope import Scope
-from urdftk.xacro._subst import EvalScope, resolve
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
     from typing import Any, TextIO
+
+    from urdftk.xacro._subst import EvalScope
 
 __all__ = ["MAX_TEXT", "Context", "IncludeIOError", "XacroPackageNotFound"]
 
@@ -283,6 +284,8 @@ class Context:
         text = "$(" + str(self.eval_text(inner, scope)) + ")"
         if text == "$(cwd)":
             return os.path.abspath(self.root_dir or os.curdir)
+        from urdftk.xacro._subst import resolve
+
         return resolve(self, text)
 
     def eval_subst(self, expr: str) -> Any:
@@ -312,6 +315,8 @@ class Context:
             )
             for k in ("__xacro_getattr__", "__xacro_pow__", "__xacro_lshift__"):
                 base[k] = self.root[k]
+            from urdftk.xacro._subst import EvalScope
+
             self._eval_scope = EvalScope(self, base)
         scope = self._eval_scope
         try:

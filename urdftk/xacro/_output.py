@@ -26,35 +26,40 @@ def _esc(s: str) -> str:
 def _element(el: Element, indent: str, out: list) -> None:
     tag = el.tag
     attrs = el.attrs
-    if attrs:
-        if len(attrs) == 1:
-            ((k, v),) = attrs.items()
-            out.append(f'{indent}<{tag} {k}="{_esc(v)}"')
-        else:
-            out.append(indent + "<" + tag + "".join([f' {k}="{_esc(attrs[k])}"' for k in sorted(attrs)]))
+    if not attrs:
+        head = indent + "<" + tag
+    elif len(attrs) == 1:
+        ((k, v),) = attrs.items()
+        if "&" in v or "<" in v or '"' in v or ">" in v:
+            v = _esc(v)
+        head = f'{indent}<{tag} {k}="{v}"'
     else:
-        out.append(indent + "<" + tag)
+        vals = "".join(attrs.values())  # one check for all values: escaping is rare
+        if "&" in vals or "<" in vals or '"' in vals or ">" in vals:
+            head = indent + "<" + tag + "".join([f' {k}="{_esc(attrs[k])}"' for k in sorted(attrs)])
+        else:
+            head = indent + "<" + tag + "".join([f' {k}="{attrs[k]}"' for k in sorted(attrs)])
     children = el.children
     if not children:
-        out.append("/>\n")
+        out.append(head + "/>\n")
         return
     if len(children) == 1:
         c = children[0]
         if c.__class__ is str:
-            out.append(f">{_esc(c)}</{tag}>\n")
+            out.append(f"{head}>{_esc(c)}</{tag}>\n")
             return
         if c.__class__ is Text:
-            out.append(f">{_esc(c.data)}</{tag}>\n")
+            out.append(f"{head}>{_esc(c.data)}</{tag}>\n")
             return
-    out.append(">\n")
+    out.append(head + ">\n")
     sub = indent + "  "
     for c in children:
         cls = c.__class__
-        if cls is Element:
-            _element(c, sub, out)
-        elif cls is str:
+        if cls is str:
             if c and not c.isspace():
                 out.append(sub + _esc(c) + "\n")
+        elif cls is Element:
+            _element(c, sub, out)
         elif cls is Text:
             if c.data and not c.data.isspace():
                 out.append(sub + _esc(c.data) + "\n")

@@ -32,6 +32,11 @@ __all__ = [
 
 MAX_CALLS = 200_000  # macro calls in one expansion
 
+# Tags whose handlers never edit the tag element itself: one from a macro body needs no copy.
+_READ_ONLY = frozenset(
+    ["xacro:property", "xacro:arg", "xacro:include", "xacro:insert_block", "xacro:attribute"]
+)
+
 
 def standalone_context() -> Expander:
     """An expansion context for scopes used outside an expansion (compatibility API)."""
@@ -130,6 +135,38 @@ class Expander(Tags):
         new.pop("xmlns:xacro", None)
         node.attrs = new
 
+    def _instantiate(self, el: Element, symbols: Scope) -> Element:
+        """Expand a ``pure`` subtree of a macro body: what the walk does to it, without its dispatch.
+
+        The walk would copy each element, evaluate its attributes, then its text children in
+        order; a pure subtree has nothing else (no xacro tag, no comment to evaluate).
+        """
+        new = Element(el.tag, el.attrs, el.line, el.file)
+        attrs = el.attrs
+        if attrs:
+            for k, v in attrs.items():
+                if "$" in v or k[:6] == "xacro:" or k == "xmlns:xacro":
+                    self._eval_attrs(new, symbols)
+                    break
+        if el.fixed:
+            new.children = el.children
+            new.fixed = True
+            return new
+        kids = new.children
+        try:
+            for c in el.children:
+                cls = c.__class__
+                if cls is str:
+                    if "$" in c:
+                        c = str(self.eval_text(c, symbols))
+                elif cls is Element and not c.static:
+                    c = self._instantiate(c, symbols)
+                kids.append(c)
+        except XacroError as e:
+            self._locate(e, new.file, new.line)
+            raise
+        return new
+
     def eval_children(self, parent: Element, macros: Scope, symbols: Scope) -> None:
         """Process the children of ``parent`` in order, expanding xacro tags in place."""
         children = parent.children
@@ -150,21 +187,40 @@ class Expander(Tags):
                     continue
                 if cls is Element:
                     eval_comments = False
-                    if node.shared:  # part of a macro body: skip it if static, else copy it first
+                    # part of a macro body: skip it if static, else copy it first (unless it is a
+                    # xacro tag whose handler only reads it)
+                    if node.shared and (node.static or node.tag not in _READ_ONLY):
                         if node.static:
                             i += 1
                             continue
-                        node = children[i] = copy_shallow(node)
+                        if node.pure:
+                            children[i] = self._instantiate(node, symbols)
+                            i += 1
+                            continue
+                        new = Element(node.tag, node.attrs, node.line, node.file)  # copy_shallow, inlined
+                        if node.fixed:
+                            new.children = node.children
+                            new.fixed = True
+                        else:
+                            new.children = node.children.copy()
+                        node = children[i] = new
                     tag = node.tag
-                    if tag[:6] != "xacro:":
-                        self.eval_all(node, macros, symbols)
-                        # nested edits can only take the shared blank node out of this list
-                        if i >= len(children) or children[i] is not node:
-                            i = (
-                                i - 1
-                                if 0 < i <= len(children) and children[i - 1] is node
-                                else children.index(node)
-                            )
+                    if tag[:6] != "xacro:":  # eval_all, inlined (node is not static here)
+                        attrs = node.attrs
+                        if attrs:
+                            for k, v in attrs.items():
+                                if "$" in v or k[:6] == "xacro:" or k == "xmlns:xacro":
+                                    self._eval_attrs(node, symbols)
+                                    break
+                        if node.children and not node.fixed:
+                            self.eval_children(node, macros, symbols)
+                            # nested edits can only take the shared blank node out of this list
+                            if i >= len(children) or children[i] is not node:
+                                i = (
+                                    i - 1
+                                    if 0 < i <= len(children) and children[i - 1] is node
+                                    else children.index(node)
+                                )
                         i += 1
                         continue
                     n_before = len(children)

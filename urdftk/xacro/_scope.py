@@ -78,8 +78,7 @@ class Scope(dict):
     __slots__ = ("ctx", "lazy", "parent", "recursive", "root")
 
     def __init__(self, parent: dict | None = None, ctx: Any | None = None):
-        dict.__init__(self)
-        dict.__setitem__(self, "__builtins__", _NO_BUILTINS)
+        dict.__setitem__(self, "__builtins__", _NO_BUILTINS)  # (dict.__new__ made it empty)
         if parent is None:
             parent = {}
         self.parent = parent
@@ -94,13 +93,15 @@ class Scope(dict):
 
     def __missing__(self, key: str) -> Any:
         t = self
+        root = self.root  # every chain ends at its root, the one parent that is not a Scope
+        get = dict.get
         while True:  # up the chain in one call (deep macro nesting makes long chains)
             if t.lazy and key in t.lazy:
                 return t._resolve(key)
             t = t.parent
-            if not isinstance(t, Scope):
-                return t[key]  # the root
-            value = dict.get(t, key, _MISSING)
+            if t is root:
+                return t[key]
+            value = get(t, key, _MISSING)
             if value is not _MISSING:
                 return value
 

@@ -78,7 +78,12 @@ def _deprecated(ctx: Any, f: Callable, name: str, ns: str) -> Callable:
     return wrapper
 
 
+_YAML_DICT_ATTRS = frozenset(dir(YamlDict))
+
+
 def _getattr(obj: Any, name: str) -> Any:
+    if obj.__class__ is YamlDict and name not in _YAML_DICT_ATTRS:
+        return YamlDict.__getattr__(obj, name)  # what getattr() ends in, without the detour
     return guarded_getattr(obj, name, (NameSpace,), (YamlDict, YamlList))
 
 

@@ -74,7 +74,7 @@ def attrs_of(node: Element, required: tuple[str, ...], optional: tuple[str, ...]
         raise XacroError(f"{node.tag}: missing attribute '{missing}'")
     if optional:
         out += [get(a) for a in optional]
-    if len(attrs) > len(required):
+    if len(attrs) > len(out) - out.count(None):  # some attribute is neither required nor optional
         extra = [a for a in attrs if a not in required and a not in optional and not a.startswith("xmlns:")]
         if extra:
             ctx.warn(f"{node.tag}: unknown attribute(s): {', '.join(extra)}")

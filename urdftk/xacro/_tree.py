@@ -53,13 +53,15 @@ class Element:
 
     ``static`` marks a subtree of a macro body that evaluation cannot change (no ``$``, no xacro
     tag or attribute, no comment that could be evaluated): it is shared, not copied, and skipped.
+    ``pure`` marks a subtree of a macro body without xacro tags or ``xacro:eval-comments``: its
+    expansion only evaluates attributes and text, so it is copied in one go.
     ``fixed`` marks an element of a macro body whose children are all static (its attributes may
     not be): copies share its child list, and evaluation skips the children. ``shared`` marks
     every element of a macro body: the walk never edits one, it copies it first (one level at a
     time, as it descends: see :func:`copy_shallow`).
     """
 
-    __slots__ = ("attrs", "children", "file", "fixed", "line", "shared", "static", "tag")
+    __slots__ = ("attrs", "children", "file", "fixed", "line", "pure", "shared", "static", "tag")
 
     def __init__(self, tag: str, attrs: dict[str, str], line: int = 0, file: str | None = None):
         self.tag = tag
@@ -70,6 +72,7 @@ class Element:
         self.static = False
         self.fixed = False
         self.shared = False
+        self.pure = False
 
     def __repr__(self) -> str:
         return f"<Element {self.tag} at line {self.line}>"
@@ -164,32 +167,35 @@ def clone(el: Element) -> Element:
 
 
 def mark_static(el: Element) -> int:
-    """Set ``static`` and ``fixed`` below ``el`` (and on ``el``); return the subtree's node count."""
-    size = 1
+    """Set ``static``, ``fixed`` and ``pure`` below ``el`` (and on ``el``); return its node count."""
     attrs = el.attrs
+    pure = el.tag[:6] != "xacro:"
     # conservative: any attribute name containing "xacro" (xacro:*, xmlns:xacro) counts as dynamic
-    plain = el.tag[:6] != "xacro:" and (
-        not attrs or ("$" not in "".join(attrs.values()) and "xacro" not in " ".join(attrs))
-    )
+    plain = pure and (not attrs or ("$" not in "".join(attrs.values()) and "xacro" not in " ".join(attrs)))
+    children = el.children
+    size = 1 + len(children)
     fixed = True
-    for c in el.children:
+    for c in children:
         cls = c.__class__
-        if cls is Element:
-            size += mark_static(c)
-            if not c.static:
-                fixed = False
-            continue
-        size += 1
         if cls is str:
             if "$" in c:
                 fixed = False
+        elif cls is Element:
+            size += mark_static(c) - 1
+            if not c.static:
+                fixed = False
+                if not c.pure:
+                    pure = False
         elif cls is Comment:
-            if "$" in c.data or "xacro:eval-comments" in c.data:
+            if "xacro:eval-comments" in c.data:
+                fixed = pure = False
+            elif "$" in c.data:
                 fixed = False
         elif cls is Text:
-            fixed = False
+            fixed = pure = False
     el.fixed = fixed
     el.static = plain and fixed
+    el.pure = pure
     el.shared = True
     return size
 
@@ -231,38 +237,45 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
         XmlSyntaxError: The text is not well-formed, or declares a DOCTYPE/ENTITY.
     """
     p = ParserCreate()
-    top = []
-    stack = []
-    cur = top
+    top: list = []
+    stack: list = [top]  # the child list of each open element, innermost last
+    push = stack.append
+    pop = stack.pop
     cdata = None
     reorder = _reorder_at(text)
 
     def start(name, attrs):
-        nonlocal cur
-        if reorder and p.CurrentByteIndex in reorder:
+        el = Element(name, attrs, p.CurrentLineNumber, filename)
+        stack[-1].append(el)
+        push(el.children)
+
+    def start_reordered(name, attrs):
+        if p.CurrentByteIndex in reorder:
             ns = {k: v for k, v in attrs.items() if k == "xmlns" or k.startswith("xmlns:")}
             ns.update(attrs)
             attrs = ns
         el = Element(name, attrs, p.CurrentLineNumber, filename)
-        cur.append(el)
-        stack.append(cur)
-        cur = el.children
+        stack[-1].append(el)
+        push(el.children)
 
     def end(name):
-        nonlocal cur
-        cur = stack.pop()
+        pop()
 
-    def chars(data):
+    def chars(data):  # text outside the root element is dropped at the end
+        stack[-1].append(data)
+
+    def chars_merging(data):  # for a buffer smaller than the text: a run may come in pieces
+        cur = stack[-1]
         if cur:
             last = cur[-1]
             if last.__class__ is str:
                 cur[-1] = last + data
                 return
-        if cur is not top:
-            cur.append(data)
+        cur.append(data)
 
     def cdata_chars(data):
         nonlocal cdata
+        cur = stack[-1]
         if cdata is not None and cur and cur[-1] is cdata:
             cdata.data += data
         else:
@@ -270,10 +283,10 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
             cur.append(cdata)
 
     def comment(data):
-        cur.append(Comment(data, p.CurrentLineNumber))
+        stack[-1].append(Comment(data, p.CurrentLineNumber))
 
     def pi(target, data):
-        cur.append(PI(target, data))
+        stack[-1].append(PI(target, data))
 
     def start_cdata():
         nonlocal cdata
@@ -283,7 +296,7 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
     def end_cdata():
         nonlocal cdata
         cdata = None
-        p.CharacterDataHandler = chars
+        p.CharacterDataHandler = text_handler
 
     def doctype(*args):
         raise XmlSyntaxError(
@@ -295,9 +308,15 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
         )
 
     p.buffer_text = True
-    p.StartElementHandler = start
+    # a buffer as large as the document: each run of text arrives in one piece, never split
+    size = len(text) if text.__class__ is str and text.isascii() else 4 * len(text)  # UTF-8 bytes, at most
+    text_handler = chars_merging
+    if size < 1 << 30:
+        p.buffer_size = max(size, 8192)
+        text_handler = chars
+    p.StartElementHandler = start_reordered if reorder else start
     p.EndElementHandler = end
-    p.CharacterDataHandler = chars
+    p.CharacterDataHandler = text_handler
     p.CommentHandler = comment
     p.ProcessingInstructionHandler = pi
     p.StartCdataSectionHandler = start_cdata
@@ -308,6 +327,7 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
         p.Parse(text, True)
     except ExpatError as e:
         raise XmlSyntaxError(errors.messages[e.code], filename, e.lineno, e.offset + 1) from None
+    top = [n for n in top if n.__class__ is not str]
     for n in top:
         if n.__class__ is Element:
             return top, n
