@@ -366,6 +366,13 @@ def main() -> None:
         f"  cpu pub {lis['pub_cpu']:.1f}% (msgs {lis['pub_build']:.1f}%)  sub {lis['sub_cpu']:.1f}%",
         flush=True,
     )
+    for kind in ("zenoh", "zmq"):
+        results[kind, 0.0] = r = _run(kind, 0.0, args.burst)
+        print(
+            f"{kind:5s} flat out: received {r['received']}/{r['sent']}  {r['msgs_per_s']:.0f} msgs/s sent"
+            f"  (lost {r['sent'] - r['received']})",
+            flush=True,
+        )
     z = results["zenoh", 1000.0]
     print(
         f"urdftk's share at 1 kHz (ours minus bare Zenoh): pub {z['pub_cpu'] - raw['pub_cpu']:.1f}%"
