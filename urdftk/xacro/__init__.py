@@ -92,25 +92,12 @@ def expand(
         urdftk.errors.XacroError: With ``file:line`` and the macro/include trace.
         urdftk.errors.PackageNotFound: A ``$(find)`` package is unknown.
     """
-    if (source is None) == (text is None):
-        raise ValueError("give exactly one of source and text")
-    return _expand(source, mappings, text, filename, package_paths, resolver, stderr, verbosity)
-
-
-def _expand(
-    source: PathLike | None,
-    mappings: Mapping[str, str] | None,
-    text: str | None,
-    filename: str | None,
-    package_paths: Iterable[PathLike],
-    resolver: Any,
-    stderr: TextIO | None,
-    verbosity: int,
-) -> Result:
     from urdftk.xacro._output import banner, write_document
     from urdftk.xacro._processor import Expander
     from urdftk.xacro._tree import parse_xml
 
+    if (source is None) == (text is None):
+        raise ValueError("give exactly one of source and text")
     ex = Expander(dict(mappings or {}), tuple(package_paths), resolver, stderr, verbosity)
     if source is not None:
         name = os.fspath(source)
