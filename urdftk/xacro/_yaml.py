@@ -142,52 +142,8 @@ def load_yaml_text(stream: Any, evaluate: Callable[[str], Any], filename: str) -
         loader = _loader_class()(stream)  # as yaml.load does, with the evaluator attached
         loader.xacro_evaluate = evaluate
         try:
-            node = loader.get_single_node()
-            if node is None:
-                return None
-            try:
-                return wrap(_construct_plain(loader, node, {}))
-            except (_NotPlain, RecursionError):
-                return wrap(loader.construct_document(node))
+            return wrap(loader.get_single_data())
         finally:
             loader.dispose()
     except yaml.YAMLError as e:
         raise XacroError(f"{filename}: invalid yaml: {e}") from None
-
-
-class _NotPlain(Exception):
-    """The document has a node that PyYAML's own construction must handle."""
-
-
-_YAML = "tag:yaml.org,2002:"
-_SCALAR_TAGS = frozenset(_YAML + t for t in ("str", "int", "float", "bool", "null"))
-
-
-def _construct_plain(loader: Any, node: Any, memo: dict[int, Any]) -> Any:
-    """PyYAML's construction of a document of plain mappings, sequences and scalars, in one pass.
-
-    Scalars go through the loader's own constructors, so values are PyYAML's; only the generic
-    machinery (deferred generators, bookkeeping) is skipped. Anything else (merge keys, unit
-    tags, sets, timestamps, non-scalar keys...) raises :class:`_NotPlain`.
-    """
-    done = memo.get(id(node))
-    if done is not None:
-        return done  # an alias: the same object, as PyYAML gives
-    tag = node.tag
-    if tag in _SCALAR_TAGS:
-        value = memo[id(node)] = loader.yaml_constructors[tag](loader, node)
-        return value
-    if tag == _YAML + "map" and node.id == "mapping":
-        data: dict = {}
-        memo[id(node)] = data
-        for key_node, value_node in node.value:
-            if key_node.tag not in _SCALAR_TAGS or key_node.id != "scalar":
-                raise _NotPlain
-            data[_construct_plain(loader, key_node, memo)] = _construct_plain(loader, value_node, memo)
-        return data
-    if tag == _YAML + "seq" and node.id == "sequence":
-        items: list = []
-        memo[id(node)] = items
-        items.extend([_construct_plain(loader, child, memo) for child in node.value])
-        return items
-    raise _NotPlain
