@@ -107,9 +107,12 @@ def expand(
         name = filename
         top, root = parse_xml(text, filename)  # type: ignore[arg-type]
         shown = filename if filename is not None else "<string>"
-    top = ex.process(top, root, name)
-    out = write_document([*banner(str(shown)), *top])
-    return Result(out, dict.fromkeys(ex.includes), ex.found_packages())
+    try:
+        top = ex.process(top, root, name)
+        out = write_document([*banner(str(shown)), *top])
+        return Result(out, dict.fromkeys(ex.includes), ex.found_packages())
+    finally:
+        ex.release()
 
 
 def process_file(

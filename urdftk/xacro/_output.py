@@ -23,43 +23,70 @@ def _esc(s: str) -> str:
     return s.replace("&", "&amp;").replace("<", "&lt;").replace('"', "&quot;").replace(">", "&gt;")
 
 
-def _element(el: Element, indent: str, out: list) -> None:
-    tag = el.tag
-    attrs = el.attrs
-    if not attrs:
-        head = indent + "<" + tag
-    elif len(attrs) == 1:
+def _head(tag: str, attrs: dict[str, str]) -> str:
+    """'<tag a="1" b="2"' with attributes sorted and escaped."""
+    n = len(attrs)
+    if n == 1:
         ((k, v),) = attrs.items()
         if "&" in v or "<" in v or '"' in v or ">" in v:
             v = _esc(v)
-        head = f'{indent}<{tag} {k}="{v}"'
-    else:
-        vals = "".join(attrs.values())  # one check for all values: escaping is rare
-        if "&" in vals or "<" in vals or '"' in vals or ">" in vals:
-            head = indent + "<" + tag + "".join([f' {k}="{_esc(attrs[k])}"' for k in sorted(attrs)])
-        else:
-            head = indent + "<" + tag + "".join([f' {k}="{attrs[k]}"' for k in sorted(attrs)])
+        return f'<{tag} {k}="{v}"'
+    vals = "".join(attrs.values())
+    if "&" in vals or "<" in vals or '"' in vals or ">" in vals:
+        return "<" + tag + "".join([f' {k}="{_esc(attrs[k])}"' for k in sorted(attrs)])
+    if n == 2:
+        a, b = attrs
+        if b < a:
+            a, b = b, a
+        return f'<{tag} {a}="{attrs[a]}" {b}="{attrs[b]}"'
+    return "<" + tag + "".join([f' {k}="{attrs[k]}"' for k in sorted(attrs)])
+
+
+def _element(el: Element, indent: str, out: list) -> None:
+    tag = el.tag
+    attrs = el.attrs
+    head = indent + _head(tag, attrs) if attrs else indent + "<" + tag
     children = el.children
     if not children:
         out.append(head + "/>\n")
         return
     if len(children) == 1:
         c = children[0]
-        if c.__class__ is str:
-            out.append(f"{head}>{_esc(c)}</{tag}>\n")
-            return
-        if c.__class__ is Text:
-            out.append(f"{head}>{_esc(c.data)}</{tag}>\n")
+        cls = c.__class__
+        if cls is str or cls is Text:
+            if cls is Text:
+                c = c.data
+            if "&" in c or "<" in c or '"' in c or ">" in c:
+                c = _esc(c)
+            out.append(f"{head}>{c}</{tag}>\n")
             return
     out.append(head + ">\n")
     sub = indent + "  "
     for c in children:
         cls = c.__class__
-        if cls is str:
+        if cls is Element:
+            kids = c.children
+            if not kids:  # a leaf, inlined
+                a = c.attrs
+                if len(a) == 1:
+                    ((k, v),) = a.items()
+                    if "&" in v or "<" in v or '"' in v or ">" in v:
+                        v = _esc(v)
+                    out.append(f'{sub}<{c.tag} {k}="{v}"/>\n')
+                else:
+                    out.append(f"{sub}{_head(c.tag, a) if a else '<' + c.tag}/>\n")
+            elif len(kids) == 1 and kids[0].__class__ is str:  # one text child, inlined
+                a = c.attrs
+                t = kids[0]
+                if "&" in t or "<" in t or '"' in t or ">" in t:
+                    t = _esc(t)
+                ctag = c.tag
+                out.append(f"{sub}{_head(ctag, a) if a else '<' + ctag}>{t}</{ctag}>\n")
+            else:
+                _element(c, sub, out)
+        elif cls is str:
             if c and not c.isspace():
                 out.append(sub + _esc(c) + "\n")
-        elif cls is Element:
-            _element(c, sub, out)
         elif cls is Text:
             if c.data and not c.data.isspace():
                 out.append(sub + _esc(c.data) + "\n")

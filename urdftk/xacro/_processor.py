@@ -51,17 +51,6 @@ class Expander(Tags):
         super().__init__(*args, **kwargs)
         self.root = make_root(self)
         self.calls = 0
-        self._tags = {
-            "xacro:insert_block": self._insert_block,
-            "xacro:include": self._include,
-            "xacro:property": self._property,
-            "xacro:macro": self._macro,
-            "xacro:arg": self._arg,
-            "xacro:attribute": self._attribute,
-            "xacro:if": self._if,
-            "xacro:unless": self._if,
-            "xacro:call": self._dynamic_call,
-        }
 
     # -- entry points ---------------------------------------------------------------------
     def process(self, top: list, root: Element, filename: str | None) -> list:
@@ -80,6 +69,18 @@ class Expander(Tags):
                 f"{filename or '<string>'}: the document or its macros nest too deeply to expand"
             ) from None
         return top
+
+    def release(self) -> None:
+        """Drop what refers back to the expansion (global symbols, parsed trees) once it is done.
+
+        The symbol table's functions refer to the expansion: without this, the expansion and
+        every tree it parsed would wait for Python's cyclic garbage collector.
+        """
+        self.root = {}
+        self.parsed = {}
+        self._eval_scope = None
+        self.empty.parent = None
+        self.macro_stack = []
 
     # -- errors -----------------------------------------------------------------------------
     def _locate(self, err: XacroError, file: str | None, line: int) -> None:
@@ -173,7 +174,7 @@ class Expander(Tags):
         i = 0
         node: Any = None
         eval_comments = False
-        tags = self._tags
+        tags = _TAGS
         try:
             while i < len(children):
                 node = children[i]
@@ -228,7 +229,7 @@ class Expander(Tags):
                     self.hint = i
                     handler = tags.get(tag)
                     if handler is not None:
-                        handler(parent, node, macros, symbols)
+                        handler(self, parent, node, macros, symbols)
                     elif tag == "xacro:element":
                         name = self.eval_text(attrs_of(node, ("xacro:name",), (), self)[0], symbols)
                         if not name:
@@ -356,3 +357,18 @@ class Expander(Tags):
             )
         shown = " -> ".join([*names[:3], "...", *names[-2:]])
         return f"macro calls nested more than {MAX_DEPTH} deep: {shown}"
+
+
+# tag -> handler (functions, not bound methods: an expansion holding its own bound methods
+# would be a reference cycle)
+_TAGS = {
+    "xacro:insert_block": Expander._insert_block,
+    "xacro:include": Expander._include,
+    "xacro:property": Expander._property,
+    "xacro:macro": Expander._macro,
+    "xacro:arg": Expander._arg,
+    "xacro:attribute": Expander._attribute,
+    "xacro:if": Expander._if,
+    "xacro:unless": Expander._if,
+    "xacro:call": Expander._dynamic_call,
+}

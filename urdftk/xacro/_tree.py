@@ -238,34 +238,35 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
     """
     p = ParserCreate()
     top: list = []
-    stack: list = [top]  # the child list of each open element, innermost last
+    stack: list = []  # the child lists of the open elements' parents
     push = stack.append
     pop = stack.pop
+    cur = top  # the child list of the innermost open element
     cdata = None
     reorder = _reorder_at(text)
 
     def start(name, attrs):
+        nonlocal cur
         el = Element(name, attrs, p.CurrentLineNumber, filename)
-        stack[-1].append(el)
-        push(el.children)
+        cur.append(el)
+        push(cur)
+        cur = el.children
 
     def start_reordered(name, attrs):
         if p.CurrentByteIndex in reorder:
             ns = {k: v for k, v in attrs.items() if k == "xmlns" or k.startswith("xmlns:")}
             ns.update(attrs)
             attrs = ns
-        el = Element(name, attrs, p.CurrentLineNumber, filename)
-        stack[-1].append(el)
-        push(el.children)
+        start(name, attrs)
 
     def end(name):
-        pop()
+        nonlocal cur
+        cur = pop()
 
     def chars(data):  # text outside the root element is dropped at the end
-        stack[-1].append(data)
+        cur.append(data)
 
     def chars_merging(data):  # for a buffer smaller than the text: a run may come in pieces
-        cur = stack[-1]
         if cur:
             last = cur[-1]
             if last.__class__ is str:
@@ -275,7 +276,6 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
 
     def cdata_chars(data):
         nonlocal cdata
-        cur = stack[-1]
         if cdata is not None and cur and cur[-1] is cdata:
             cdata.data += data
         else:
@@ -283,10 +283,10 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
             cur.append(cdata)
 
     def comment(data):
-        stack[-1].append(Comment(data, p.CurrentLineNumber))
+        cur.append(Comment(data, p.CurrentLineNumber))
 
     def pi(target, data):
-        stack[-1].append(PI(target, data))
+        cur.append(PI(target, data))
 
     def start_cdata():
         nonlocal cdata
@@ -327,6 +327,10 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
         p.Parse(text, True)
     except ExpatError as e:
         raise XmlSyntaxError(errors.messages[e.code], filename, e.lineno, e.offset + 1) from None
+    finally:
+        # the handlers refer to the parser (a cycle): break it, so that the parser and its
+        # buffer go now, and the tree is freed by reference counting, not by the cyclic GC
+        p = None
     top = [n for n in top if n.__class__ is not str]
     for n in top:
         if n.__class__ is Element:
