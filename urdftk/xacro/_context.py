@@ -24,6 +24,31 @@ __all__ = ["MAX_TEXT", "Context", "IncludeIOError", "XacroPackageNotFound"]
 MAX_TEXT = 20_000_000  # characters in one evaluated value
 
 
+_NAME = 3  # a ${...} that is one name: (kind, name, source)
+_CODE = 4  # a ${...} compiled to code: (kind, code, source)
+
+
+@lru_cache(maxsize=16384)
+def _text_plan(text: str) -> tuple[tuple[int, Any, str], ...]:
+    """``text``'s tokens as ``(kind, payload, source)``: TEXT, SUBST, _NAME, _CODE, or EXPR.
+
+    An expression that contains ``$`` or that fails to compile stays EXPR: :meth:`eval_expr`
+    evaluates it in turn, so its error comes after the effects of the tokens before it.
+    """
+    out: list[tuple[int, Any, str]] = []
+    for kind, s in tokenize(text):
+        if kind == EXPR and "$" not in s:
+            try:
+                name, code = _plan(s)
+            except Exception:
+                out.append((EXPR, None, s))
+                continue
+            out.append((_NAME, name, s) if name is not None else (_CODE, code, s))
+        else:
+            out.append((kind, s, s))
+    return tuple(out)
+
+
 @lru_cache(maxsize=16384)
 def _plan(expr: str) -> tuple[str | None, Any]:
     """(name, None) for a bare name, else (None, compiled code); sandbox refusals raise."""
@@ -106,6 +131,7 @@ class Context:
         self.includes: list[str] = []  # every file read after the input, in order
         self._eval_scope: EvalScope | None = None
         self._yaml: dict[str, Any] = {}  # yaml text -> loaded data (files without unit tags)
+        self._found_text: dict[str, str] = {}  # "find pkg" -> the folder
         self.root: dict[str, Any] = {}
 
     # -- messages ---------------------------------------------------------------------------
@@ -226,22 +252,58 @@ class Context:
         """Evaluate ``${}``/``$()`` in ``text``; one token gives a typed value, several give text."""
         if "$" not in text:
             return text
-        toks = tokenize(text)
-        if len(toks) == 1:
-            kind, s = toks[0]
+        steps = _text_plan(text)
+        if len(steps) == 1:
+            kind, x, s = steps[0]
+            if kind >= _NAME:  # _NAME or _CODE: eval_expr, inlined
+                try:
+                    if kind == _NAME:
+                        try:
+                            value = scope[x]
+                        except KeyError:
+                            raise NameError(f"name '{x}' is not defined", name=x) from None
+                    else:
+                        value = eval(x, scope)
+                except (XacroError, RecursionError):
+                    raise
+                except Exception as exc:
+                    raise _expr_error(exc, s, scope) from None
+                if value.__class__ is str and len(value) > MAX_TEXT:
+                    raise XacroError(f"expression '{s}' gives text longer than {MAX_TEXT} characters")
+                return value
             if kind == EXPR:
                 return self.eval_expr(s, scope)
             if kind == SUBST:
                 return self.eval_subst_text(s, scope)
             return s
         out = []
-        for kind, s in toks:
-            if kind == TEXT:
-                out.append(s)
-            elif kind == EXPR:
-                out.append(str(self.eval_expr(s, scope)))
-            else:
-                out.append(self.eval_subst_text(s, scope))
+        s = ""
+        try:
+            for kind, x, s in steps:
+                if kind == TEXT:
+                    out.append(x)
+                    continue
+                if kind == _NAME:
+                    try:
+                        value = scope[x]
+                    except KeyError:
+                        raise NameError(f"name '{x}' is not defined", name=x) from None
+                elif kind == _CODE:
+                    value = eval(x, scope)
+                elif kind == EXPR:
+                    value = self.eval_expr(s, scope)
+                else:
+                    out.append(self.eval_subst_text(s, scope))
+                    continue
+                if value.__class__ is not str:
+                    value = str(value)
+                elif len(value) > MAX_TEXT:
+                    raise XacroError(f"expression '{s}' gives text longer than {MAX_TEXT} characters")
+                out.append(value)
+        except (XacroError, RecursionError):
+            raise
+        except Exception as exc:
+            raise _expr_error(exc, s, scope) from None
         result = "".join(out)
         if len(result) > MAX_TEXT:
             raise XacroError(f"evaluated text longer than {MAX_TEXT} characters (exponential expansion?)")
@@ -281,6 +343,13 @@ class Context:
 
     def eval_subst_text(self, inner: str, scope: Any) -> str:
         """Evaluate ``$(inner)``: ``$(cwd)`` or a substitution command."""
+        if inner[:5] == "find " and "$" not in inner:  # a package's folder is fixed for the expansion
+            hit = self._found_text.get(inner)
+            if hit is None:
+                from urdftk.xacro._subst import resolve
+
+                hit = self._found_text[inner] = resolve(self, "$(" + inner + ")")
+            return hit
         text = "$(" + str(self.eval_text(inner, scope)) + ")"
         if text == "$(cwd)":
             return os.path.abspath(self.root_dir or os.curdir)

@@ -72,16 +72,38 @@ class Macro:
         body: The ``xacro:macro`` element (copied at every call).
         params: Parameter names in order (``*block`` and ``**block`` included).
         defaults: name -> (forward, default).
+        param_set: The parameter names as a set.
+        blocks: The block parameters (``*name``, ``**name``) in order.
+        plain: The other parameters in order.
+        dups: Whether a parameter name is listed more than once.
+        has_ns: Whether the ``xacro:macro`` element declares namespaces (imported at each call).
         def_file: The file being processed when the macro was defined (None for a string).
         size: Node count of the body.
     """
 
-    __slots__ = ("_size", "body", "def_file", "defaults", "name", "params")
+    __slots__ = (
+        "_size",
+        "blocks",
+        "body",
+        "def_file",
+        "defaults",
+        "dups",
+        "has_ns",
+        "name",
+        "param_set",
+        "params",
+        "plain",
+    )
 
     def __init__(self, name: str, body: Element, params: str, def_file: str | None):
         self.name = name
         self.body = body
         self.params, self.defaults = parse_params(params)
+        self.param_set = frozenset(self.params)
+        self.blocks = tuple(p for p in self.params if p[0] == "*")  # block parameters, in order
+        self.plain = tuple(p for p in self.params if p[0] != "*")
+        self.dups = len(self.param_set) != len(self.params)  # a name listed twice (stock allows it)
+        self.has_ns = any(k[:6] == "xmlns:" for k in body.attrs)  # namespaces to import at a call
         self.def_file = def_file
         self._size: int | None = None
 

@@ -14,7 +14,7 @@ from urdftk.xacro._macros import Macro, first_element, resolve_macro
 from urdftk.xacro._scope import Scope
 from urdftk.xacro._symbols import make_root
 from urdftk.xacro._tags import MAX_DEPTH, MAX_NODES, Tags, attrs_of, is_valid_name, to_bool
-from urdftk.xacro._tree import Comment, Element, Text, XmlSyntaxError, copy_shallow
+from urdftk.xacro._tree import Comment, Element, Text, XmlSyntaxError
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -287,51 +287,75 @@ class Expander(Tags):
             hint = close_names(name, known)
             extra = f" (did you mean {', '.join('xacro:' + h for h in hint)}?)" if hint else ""
             raise XacroError(f"unknown macro name: {node.tag}{extra}") from None
-        if not isinstance(m, Macro):
+        if m.__class__ is not Macro:
             raise XacroError(f"unknown macro name: {node.tag} ('{name}' is not a macro)")
         self.calls += 1
         if self.calls > MAX_CALLS:
             raise XacroError(f"more than {MAX_CALLS} macro calls (exponential macro expansion?)")
-        self._budget(m.size)
-        if len(self.macro_stack) >= MAX_DEPTH:
+        size = m._size
+        self._budget(size if size is not None else m.size)
+        stack = self.macro_stack
+        if len(stack) >= MAX_DEPTH:
             raise XacroError(self._cycle_message(m))
-        body = copy_shallow(m.body)  # the walk copies the rest as it goes
-        self.macro_stack.append((m, node))
+        src = m.body  # copy_shallow, inlined: the walk copies the rest as it goes
+        body = Element(src.tag, src.attrs, src.line, src.file)
+        if src.fixed:
+            body.children = src.children
+            body.fixed = True
+        else:
+            body.children = src.children.copy()
+        stack.append((m, node))
         local = Scope(scoped_symbols)
         local_macros = Scope(scoped_macros)
-        params = list(m.params)
-        for k, v in node.attrs.items():
-            if k not in params:
-                hint = close_names(k, [p for p in params if p[0] != "*"])
-                extra = f" (did you mean {', '.join(map(repr, hint))}?)" if hint else ""
-                raise XacroError(f'Invalid parameter "{k}" of macro {m.name}{extra}')
-            params.remove(k)
-            local.setitem(k, self.eval_text(v, symbols) if "$" in v else v, unevaluated=False)
-        if node.children:
-            self.eval_children(node, macros, symbols)
+        given = node.attrs
+        if given:
+            param_set = m.param_set
+            for k, v in given.items():
+                if k not in param_set:
+                    hint = close_names(k, [p for p in m.params if p[0] != "*"])
+                    extra = f" (did you mean {', '.join(map(repr, hint))}?)" if hint else ""
+                    raise XacroError(f'Invalid parameter "{k}" of macro {m.name}{extra}')
+                local.setitem(k, self.eval_text(v, symbols) if "$" in v else v, unevaluated=False)
         children = node.children
-        bi, block = first_element(children)
-        for p in [p for p in params if p[0] == "*"]:
+        if children:
+            self.eval_children(node, macros, symbols)
+            bi, block = first_element(children)
+        else:
+            bi, block = 0, None
+        for p in m.blocks:
             if block is None:
                 raise XacroError(f"Not enough blocks for macro {m.name} (missing {p})")
-            params.remove(p)
             local[p] = block
             bi, block = first_element(children, bi + 1)
         if block is not None:
             raise XacroError(f'Unused block "{block.tag}" in call of macro {m.name}')
-        for p in [p for p in params if p[0] != "*"]:
-            fwd, default = m.defaults.get(p, (None, None))
+        missing = None
+        defaults = m.defaults
+        plain, skip = m.plain, given
+        if m.dups:  # as stock: each argument given takes one occurrence of its name off the list
+            rest = list(m.params)
+            for k in given:
+                rest.remove(k)
+            plain, skip = [p for p in rest if p[0] != "*"], {}
+        for p in plain:
+            if p in skip:
+                continue
+            fwd, default = defaults.get(p, (None, None))
             if fwd is not None or default is not None:
                 local.setitem(p, self._default(fwd, default, symbols), unevaluated=False)
-                params.remove(p)
-        if params:
-            raise XacroError(f"Undefined parameters [{','.join(params)}] of macro {m.name}")
+            elif missing is None:
+                missing = [p]
+            else:
+                missing.append(p)
+        if missing:
+            raise XacroError(f"Undefined parameters [{','.join(missing)}] of macro {m.name}")
         self.eval_all(body, local_macros, local)
         self.hint = hint
         self._drop_comments(parent, node)
-        self._import_namespaces(parent, body.attrs)
+        if m.has_ns or body.attrs is not src.attrs:  # (an include in the body may add some)
+            self._import_namespaces(parent, body.attrs)
         self._replace(parent, node, [body])
-        self.macro_stack.pop()
+        stack.pop()
 
     def _default(self, forward: str | None, default: str | None, symbols: Scope) -> Any:
         if forward is None:

@@ -89,7 +89,7 @@ class Scope(dict):
             self.root = parent
             self.ctx = ctx
         self.lazy: dict[str, str] = {}
-        self.recursive: list[str] = []
+        self.recursive: list[str] | tuple = ()  # names being evaluated (a list once there is one)
 
     def __missing__(self, key: str) -> Any:
         t = self
@@ -112,11 +112,13 @@ class Scope(dict):
                 f"circular variable definition: {chain}\n"
                 'Consider disabling lazy evaluation via lazy_eval="false"'
             )
-        self.recursive.append(key)
+        if not self.recursive:
+            self.recursive = []
+        self.recursive.append(key)  # type: ignore[union-attr]
         try:
             value = literal(self._ctx().eval_text(self.lazy[key], self))
         finally:
-            self.recursive.remove(key)
+            self.recursive.remove(key)  # type: ignore[union-attr]
         self.lazy.pop(key, None)
         dict.__setitem__(self, key, value)
         return value

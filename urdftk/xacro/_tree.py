@@ -166,12 +166,22 @@ def clone(el: Element) -> Element:
     return new
 
 
+def _plain_attrs(attrs: dict[str, str]) -> bool:
+    """Whether evaluation leaves these attributes as they are (no ``$``, no xacro attribute).
+
+    Conservative: any attribute name containing "xacro" (``xacro:*``, ``xmlns:xacro``) counts.
+    """
+    if len(attrs) == 1:
+        ((k, v),) = attrs.items()
+        return "$" not in v and "xacro" not in k
+    return "$" not in "".join(attrs.values()) and "xacro" not in " ".join(attrs)
+
+
 def mark_static(el: Element) -> int:
     """Set ``static``, ``fixed`` and ``pure`` below ``el`` (and on ``el``); return its node count."""
     attrs = el.attrs
     pure = el.tag[:6] != "xacro:"
-    # conservative: any attribute name containing "xacro" (xacro:*, xmlns:xacro) counts as dynamic
-    plain = pure and (not attrs or ("$" not in "".join(attrs.values()) and "xacro" not in " ".join(attrs)))
+    plain = pure and (not attrs or _plain_attrs(attrs))
     children = el.children
     size = 1 + len(children)
     fixed = True
@@ -181,10 +191,21 @@ def mark_static(el: Element) -> int:
             if "$" in c:
                 fixed = False
         elif cls is Element:
-            size += mark_static(c) - 1
-            if not c.static:
+            if c.children:
+                size += mark_static(c) - 1
+                static = c.static
+                child_pure = c.pure
+            else:  # a leaf (most are), inlined
+                a = c.attrs
+                child_pure = c.tag[:6] != "xacro:"
+                static = child_pure and (not a or _plain_attrs(a))
+                c.fixed = True
+                c.static = static
+                c.pure = child_pure
+                c.shared = True
+            if not static:
                 fixed = False
-                if not c.pure:
+                if not child_pure:
                     pure = False
         elif cls is Comment:
             if "xacro:eval-comments" in c.data:
