@@ -121,12 +121,13 @@ class Expander(Tags):
 
     def _eval_attrs(self, node: Element, symbols: Scope) -> None:
         new = {}
+        eval_text = self.eval_text
         try:
             for k, v in node.attrs.items():
-                if k[:6] == "xacro:":
+                if k[0] == "x" and k[:6] == "xacro:":
                     continue
                 if "$" in v:
-                    v = self.eval_text(v, symbols)
+                    v = eval_text(v, symbols)
                     if v.__class__ is not str:
                         v = str(v)
                 new[k] = v
@@ -140,29 +141,25 @@ class Expander(Tags):
         """Expand a ``pure`` subtree of a macro body: what the walk does to it, without its dispatch.
 
         The walk would copy each element, evaluate its attributes, then its text children in
-        order; a pure subtree has nothing else (no xacro tag, no comment to evaluate).
+        order; a pure subtree has nothing else (no xacro tag, no comment to evaluate), and its
+        ``plan`` says which attributes and children change.
         """
         new = Element(el.tag, el.attrs, el.line, el.file)
-        attrs = el.attrs
-        if attrs:
-            for k, v in attrs.items():
-                if "$" in v or k[:6] == "xacro:" or k == "xmlns:xacro":
-                    self._eval_attrs(new, symbols)
-                    break
+        dynamic_attrs, dynamic = el.plan
+        if dynamic_attrs:
+            self._eval_attrs(new, symbols)
         if el.fixed:
             new.children = el.children
             new.fixed = True
             return new
-        kids = new.children
+        kids = new.children = el.children.copy()
         try:
-            for c in el.children:
-                cls = c.__class__
-                if cls is str:
-                    if "$" in c:
-                        c = str(self.eval_text(c, symbols))
-                elif cls is Element and not c.static:
-                    c = self._instantiate(c, symbols)
-                kids.append(c)
+            for i in dynamic:
+                c = kids[i]
+                if c.__class__ is str:
+                    kids[i] = str(self.eval_text(c, symbols))
+                else:
+                    kids[i] = self._instantiate(c, symbols)
         except XacroError as e:
             self._locate(e, new.file, new.line)
             raise

@@ -68,12 +68,12 @@ def index_of(children: list, node: Any, hint: int = 0) -> int:
 def attrs_of(node: Element, required: tuple[str, ...], optional: tuple[str, ...], ctx: Context) -> list[Any]:
     attrs = node.attrs
     get = attrs.get
-    out = [get(a) for a in required]
+    out = list(map(get, required))
     if None in out:
         missing = required[out.index(None)]
         raise XacroError(f"{node.tag}: missing attribute '{missing}'")
     if optional:
-        out += [get(a) for a in optional]
+        out.extend(map(get, optional))
     if len(attrs) > len(out) - out.count(None):  # some attribute is neither required nor optional
         extra = [a for a in attrs if a not in required and a not in optional and not a.startswith("xmlns:")]
         if extra:
@@ -279,7 +279,7 @@ class Tags(Context):
         if name.startswith("__"):
             raise XacroError(f"Property names must not start with double underscore:{name}")
         remove = False if not remove else to_bool(self.eval_text(remove, table), remove)
-        if sum([value is not None, default is not None, remove]) > 1:
+        if (value is not None) + (default is not None) + bool(remove) > 1:
             raise XacroError(f"Property attributes default, value, and remove are mutually exclusive: {name}")
         if remove and name in table:
             del table[name]

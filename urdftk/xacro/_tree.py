@@ -59,9 +59,11 @@ class Element:
     not be): copies share its child list, and evaluation skips the children. ``shared`` marks
     every element of a macro body: the walk never edits one, it copies it first (one level at a
     time, as it descends: see :func:`copy_shallow`).
+    ``plan`` is set on the ``pure`` elements that are not static (and only there): whether the
+    attributes need evaluating, and the indices of the children that do.
     """
 
-    __slots__ = ("attrs", "children", "file", "fixed", "line", "pure", "shared", "static", "tag")
+    __slots__ = ("attrs", "children", "file", "fixed", "line", "plan", "pure", "shared", "static", "tag")
 
     def __init__(self, tag: str, attrs: dict[str, str], line: int = 0, file: str | None = None):
         self.tag = tag
@@ -178,18 +180,22 @@ def _plain_attrs(attrs: dict[str, str]) -> bool:
 
 
 def mark_static(el: Element) -> int:
-    """Set ``static``, ``fixed`` and ``pure`` below ``el`` (and on ``el``); return its node count."""
+    """Set ``static``, ``fixed``, ``pure`` (and ``plan``) below ``el`` and on it; return its node count."""
     attrs = el.attrs
     pure = el.tag[:6] != "xacro:"
     plain = pure and (not attrs or _plain_attrs(attrs))
     children = el.children
     size = 1 + len(children)
     fixed = True
+    dynamic = []  # indices of the children that evaluation changes
+    i = -1
     for c in children:
+        i += 1
         cls = c.__class__
         if cls is str:
             if "$" in c:
                 fixed = False
+                dynamic.append(i)
         elif cls is Element:
             if c.children:
                 size += mark_static(c) - 1
@@ -203,8 +209,11 @@ def mark_static(el: Element) -> int:
                 c.static = static
                 c.pure = child_pure
                 c.shared = True
+                if child_pure and not static:
+                    c.plan = (True, ())
             if not static:
                 fixed = False
+                dynamic.append(i)
                 if not child_pure:
                     pure = False
         elif cls is Comment:
@@ -214,10 +223,13 @@ def mark_static(el: Element) -> int:
                 fixed = False
         elif cls is Text:
             fixed = pure = False
+    static = plain and fixed
     el.fixed = fixed
-    el.static = plain and fixed
+    el.static = static
     el.pure = pure
     el.shared = True
+    if pure and not static:
+        el.plan = (not plain, tuple(dynamic))
     return size
 
 
