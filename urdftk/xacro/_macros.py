@@ -56,6 +56,15 @@ def parse_params(params: str) -> tuple[tuple[str, ...], dict[str, tuple[str | No
     return tuple(names), defaults
 
 
+@lru_cache(maxsize=4096)
+def _signature(params: str) -> tuple[Any, ...]:
+    """What a call needs of ``params``: names, defaults, their set, block and other names, dups."""
+    names, defaults = parse_params(params)
+    blocks = tuple([p for p in names if p[0] == "*"])
+    plain = tuple([p for p in names if p[0] != "*"])
+    return names, defaults, frozenset(names), blocks, plain, len(set(names)) != len(names)
+
+
 def tree_size(el: Element) -> int:
     """Count the nodes below and including ``el`` (the cost of one copy)."""
     n = 1
@@ -98,12 +107,8 @@ class Macro:
     def __init__(self, name: str, body: Element, params: str, def_file: str | None):
         self.name = name
         self.body = body
-        self.params, self.defaults = parse_params(params)
-        self.param_set = frozenset(self.params)
-        self.blocks = tuple(p for p in self.params if p[0] == "*")  # block parameters, in order
-        self.plain = tuple(p for p in self.params if p[0] != "*")
-        self.dups = len(self.param_set) != len(self.params)  # a name listed twice (stock allows it)
-        self.has_ns = any(k[:6] == "xmlns:" for k in body.attrs)  # namespaces to import at a call
+        self.params, self.defaults, self.param_set, self.blocks, self.plain, self.dups = _signature(params)
+        self.has_ns = "xmlns:" in " ".join(body.attrs)  # namespaces to import at each call
         self.def_file = def_file
         self._size: int | None = None
 

@@ -122,39 +122,45 @@ class Tags(Context):
 
     def _drop_comments(self, parent: Element, node: Any) -> None:
         children = parent.children
-        i = index_of(children, node, self.hint)
+        i = self.hint
+        if not (0 <= i < len(children) and children[i] is node):
+            i = index_of(children, node, i)
         nxt = children[i + 1] if i + 1 < len(children) else None
         j = i - 1
+        move = False  # stock moves its blank node unless the walk back ran off the list's start
         while j >= 0:
             prev = children[j]
             if prev.__class__ is str and prev.isspace() and prev.count("\n") <= 1:
                 j -= 1
-                prev = children[j] if j >= 0 else None
-            if prev is not None and prev.__class__ is Comment:
+                if j < 0:
+                    move = True  # (stock's prev is None here)
+                    break
+                prev = children[j]
+            if prev.__class__ is Comment:
                 del children[j]
                 i -= 1
                 j -= 1
                 continue
-            empty = self.empty
-            if nxt is not None and nxt is not empty:
-                old = empty.parent
-                if old is parent:  # usually just before node: keep i right without a search
-                    k = index_of(children, empty, i - 1)
-                    del children[k]
-                    if k < i:
-                        i -= 1
-                elif old is not None:  # usually near the end of its list: search backwards
-                    others = old.children
-                    k = len(others) - 1
-                    while k >= 0 and others[k] is not empty:
-                        k -= 1
-                    if k < 0:
-                        others.remove(empty)  # not there: ValueError, as before
-                    del others[k]
-                children.insert(i + 1, empty)
-                empty.parent = parent
-            self.hint = i
-            return
+            move = True
+            break
+        empty = self.empty
+        if move and nxt is not None and nxt is not empty:
+            old = empty.parent
+            if old is parent:  # usually just before node: keep i right without a search
+                k = index_of(children, empty, i - 1)
+                del children[k]
+                if k < i:
+                    i -= 1
+            elif old is not None:  # usually near the end of its list: search backwards
+                others = old.children
+                k = len(others) - 1
+                while k >= 0 and others[k] is not empty:
+                    k -= 1
+                if k < 0:
+                    others.remove(empty)  # not there: ValueError, as before
+                del others[k]
+            children.insert(i + 1, empty)
+            empty.parent = parent
         self.hint = i
 
     # -- xacro tags -------------------------------------------------------------------------

@@ -173,9 +173,6 @@ def _plain_attrs(attrs: dict[str, str]) -> bool:
 
     Conservative: any attribute name containing "xacro" (``xacro:*``, ``xmlns:xacro``) counts.
     """
-    if len(attrs) == 1:
-        ((k, v),) = attrs.items()
-        return "$" not in v and "xacro" not in k
     return "$" not in "".join(attrs.values()) and "xacro" not in " ".join(attrs)
 
 
@@ -187,7 +184,7 @@ def mark_static(el: Element) -> int:
     children = el.children
     size = 1 + len(children)
     fixed = True
-    dynamic = []  # indices of the children that evaluation changes
+    dynamic = None  # indices of the children that evaluation changes
     i = -1
     for c in children:
         i += 1
@@ -195,27 +192,35 @@ def mark_static(el: Element) -> int:
         if cls is str:
             if "$" in c:
                 fixed = False
-                dynamic.append(i)
-        elif cls is Element:
+                if dynamic is None:
+                    dynamic = [i]
+                else:
+                    dynamic.append(i)
+            continue
+        if cls is Element:
             if c.children:
                 size += mark_static(c) - 1
-                static = c.static
+                if c.static:
+                    continue
                 child_pure = c.pure
             else:  # a leaf (most are), inlined
-                a = c.attrs
-                child_pure = c.tag[:6] != "xacro:"
-                static = child_pure and (not a or _plain_attrs(a))
                 c.fixed = True
-                c.static = static
-                c.pure = child_pure
                 c.shared = True
-                if child_pure and not static:
+                child_pure = c.pure = c.tag[:6] != "xacro:"
+                a = c.attrs
+                if child_pure and (not a or _plain_attrs(a)):
+                    c.static = True
+                    continue
+                c.static = False
+                if child_pure:
                     c.plan = (True, ())
-            if not static:
-                fixed = False
+            fixed = False
+            if dynamic is None:
+                dynamic = [i]
+            else:
                 dynamic.append(i)
-                if not child_pure:
-                    pure = False
+            if not child_pure:
+                pure = False
         elif cls is Comment:
             if "xacro:eval-comments" in c.data:
                 fixed = pure = False
@@ -229,7 +234,7 @@ def mark_static(el: Element) -> int:
     el.pure = pure
     el.shared = True
     if pure and not static:
-        el.plan = (not plain, tuple(dynamic))
+        el.plan = (not plain, () if dynamic is None else tuple(dynamic))
     return size
 
 
