@@ -4,6 +4,7 @@ Usage: python bench/xacro.py [--repeat N] [--only SUBSTRING] [--no-cli]
 
 1. In-process CPU time (``time.process_time``) per case, median of N runs each, stock's
    ``process_file`` + ``toprettyxml`` against ``urdftk.xacro.expand``; also the first (cold) run.
+   Each side's runs start after a full garbage collection (untimed).
 2. Whole-process CPU time (child rusage) of the ``urdftk xacro`` command against the stock
    ``xacro`` command, per case (median of N runs each, the two commands alternating).
 
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import gc
 import io
 import json
 import os
@@ -43,8 +45,14 @@ def ament_prefix(root: Path, packages: dict[str, str]) -> Path:
 
 
 def cpu(fn, repeat: int) -> tuple[float, float]:
-    """(first run, median of runs) in ms of process CPU time."""
+    """(first run, median of runs) in ms of process CPU time.
+
+    The runs start from a clean heap (a full collection, not timed), so that neither side pays
+    for collecting garbage the other left behind; within the runs the collector works as usual,
+    so each side pays for its own garbage, as a long-running process would.
+    """
     times = []
+    gc.collect()
     for _ in range(repeat):
         t = time.process_time()
         fn()

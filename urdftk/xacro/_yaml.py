@@ -104,8 +104,20 @@ def _loader_class() -> Any:
 
     base = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
+    scalar = yaml.ScalarNode
+
+    @lru_cache(maxsize=8192)
+    def resolve_scalar(value: str, implicit: tuple[bool, bool]) -> str:
+        return base.resolve(Loader, scalar, value, implicit)  # the tables are class attributes
+
     class Loader(base):  # type: ignore[valid-type,misc]
         xacro_evaluate: Callable[[str], Any]
+
+        def resolve(self, kind: Any, value: Any, implicit: Any) -> str:
+            """PyYAML's tag resolution, remembered per scalar text (it only reads class tables)."""
+            if kind is scalar and implicit.__class__ is tuple:
+                return resolve_scalar(value, implicit)
+            return base.resolve(self, kind, value, implicit)
 
     def unit(factor: float) -> Callable:
         def construct(loader: Any, node: Any) -> float:
@@ -142,8 +154,54 @@ def load_yaml_text(stream: Any, evaluate: Callable[[str], Any], filename: str) -
         loader = _loader_class()(stream)  # as yaml.load does, with the evaluator attached
         loader.xacro_evaluate = evaluate
         try:
-            return wrap(loader.get_single_data())
+            node = loader.get_single_node()
+            if node is None:
+                return None
+            try:
+                return wrap(_construct_plain(loader, node, {}))
+            except (_NotPlain, RecursionError):  # PyYAML's own construction: same result
+                return wrap(loader.construct_document(node))
         finally:
             loader.dispose()
     except yaml.YAMLError as e:
         raise XacroError(f"{filename}: invalid yaml: {e}") from None
+
+
+class _NotPlain(Exception):
+    """The document has a node that PyYAML's own construction must handle."""
+
+
+_YAML = "tag:yaml.org,2002:"
+_SCALAR_TAGS = frozenset(_YAML + t for t in ("str", "int", "float", "bool", "null"))
+
+
+def _construct_plain(loader: Any, node: Any, memo: dict[int, Any]) -> Any:
+    """PyYAML's construction of a document of plain mappings, sequences and scalars, in one pass.
+
+    PyYAML's generic construction (deferred generators, per-node bookkeeping) costs about as
+    much as parsing; robot yaml files (joint limits, inertials) are plain data, so they are
+    built here directly. Scalars still go through the loader's own constructors, so values are
+    PyYAML's. Anything else (merge keys, unit tags, sets, timestamps, non-scalar keys...)
+    raises :class:`_NotPlain`, and the caller lets PyYAML construct the whole document.
+    """
+    done = memo.get(id(node))
+    if done is not None:
+        return done  # an alias: the same object, as PyYAML gives
+    tag = node.tag
+    if tag in _SCALAR_TAGS:
+        value = memo[id(node)] = loader.yaml_constructors[tag](loader, node)
+        return value
+    if tag == _YAML + "map" and node.id == "mapping":
+        data: dict = {}
+        memo[id(node)] = data
+        for key_node, value_node in node.value:
+            if key_node.tag not in _SCALAR_TAGS or key_node.id != "scalar":
+                raise _NotPlain
+            data[_construct_plain(loader, key_node, memo)] = _construct_plain(loader, value_node, memo)
+        return data
+    if tag == _YAML + "seq" and node.id == "sequence":
+        items: list = []
+        memo[id(node)] = items
+        items.extend([_construct_plain(loader, child, memo) for child in node.value])
+        return items
+    raise _NotPlain
