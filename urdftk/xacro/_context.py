@@ -343,13 +343,18 @@ class Context:
 
     def eval_subst_text(self, inner: str, scope: Any) -> str:
         """Evaluate ``$(inner)``: ``$(cwd)`` or a substitution command."""
-        if inner[:5] == "find " and "$" not in inner:  # a package's folder is fixed for the expansion
-            hit = self._found_text.get(inner)
-            if hit is None:
-                from urdftk.xacro._subst import resolve
+        if "$" not in inner:
+            if inner[:5] == "find ":  # a package's folder is fixed for the expansion
+                hit = self._found_text.get(inner)
+                if hit is None:
+                    from urdftk.xacro._subst import resolve
 
-                hit = self._found_text[inner] = resolve(self, "$(" + inner + ")")
-            return hit
+                    hit = self._found_text[inner] = resolve(self, "$(" + inner + ")")
+                return hit
+            if inner[:4] == "arg " and " " not in inner[4:]:
+                value = self.args.get(inner[4:])
+                if value.__class__ is str and "$(" not in value:  # (else: its $(find) is resolved below)
+                    return value
         text = "$(" + str(self.eval_text(inner, scope)) + ")"
         if text == "$(cwd)":
             return os.path.abspath(self.root_dir or os.curdir)
