@@ -2,9 +2,10 @@
 
 Usage: python bench/xacro.py [--repeat N] [--only SUBSTRING] [--no-cli]
 
-1. In-process CPU time (``time.process_time``) per case, median of N runs each, stock's
-   ``process_file`` + ``toprettyxml`` against ``urdftk.xacro.expand``; also the first (cold) run.
-   Each side's runs start after a full garbage collection (untimed).
+1. In-process CPU time (``time.process_time``) per case, stock's ``process_file`` +
+   ``toprettyxml`` against ``urdftk.xacro.expand``: N rounds of 3 runs of each side in turn,
+   the median of the 3N runs; also the first (cold) run of each. Each side pays for reclaiming
+   its own garbage, and only its own (see ``batch``).
 2. Whole-process CPU time (child rusage) of the ``urdftk xacro`` command against the stock
    ``xacro`` command, per case (median of N runs each, the two commands alternating).
 
@@ -44,20 +45,65 @@ def ament_prefix(root: Path, packages: dict[str, str]) -> Path:
     return root
 
 
-def cpu(fn, repeat: int) -> tuple[float, float]:
-    """(first run, median of runs) in ms of process CPU time.
+def batch(fn, env: dict[str, str | None], runs: int) -> tuple[list[float], float, int]:
+    """``runs`` runs of ``fn`` in a row, with ``env`` applied, from a clean heap.
 
-    The runs start from a clean heap (a full collection, not timed), so that neither side pays
-    for collecting garbage the other left behind; within the runs the collector works as usual,
-    so each side pays for its own garbage, as a long-running process would.
+    A full collection (not timed) comes first, so that no side pays for collecting garbage the
+    other left behind. What the collector does during the runs is in their times; after them,
+    one more full collection finds the garbage they left (the cyclic garbage of the last runs)
+    and a second one, on the clean heap, gives the cost of a collection that finds none.
+
+    Returns:
+        The CPU time (ms) of each run; the extra CPU time (ms) of the first collection over the
+        second; the number of unreachable objects the first collection found.
     """
-    times = []
+    for k, v in env.items():
+        if v is None:
+            os.environ.pop(k, None)
+        else:
+            os.environ[k] = v
     gc.collect()
-    for _ in range(repeat):
+    times = []
+    for _ in range(runs):
         t = time.process_time()
         fn()
         times.append((time.process_time() - t) * 1000)
-    return times[0], statistics.median(times)
+    t = time.process_time()
+    found = gc.collect()
+    left = time.process_time() - t
+    t = time.process_time()
+    gc.collect()
+    clean = time.process_time() - t
+    return times, (left - clean) * 1000, found
+
+
+def paired(stock, ours, rounds: int, runs: int = 3) -> tuple[float, float, float, float]:
+    """(stock first, stock median, ours first, ours median) in ms: batches of each side in turn.
+
+    Alternating batches spreads machine drift over both sides; the first run of each side is
+    its cold one (caches empty). Each side pays for reclaiming its own garbage, and only its
+    own: a batch that left garbage gets the extra cost of collecting it shared out over its
+    runs. That extra cost also includes emptying the allocator's free lists, which every full
+    collection does after activity; it is measured on the batches that left no garbage and
+    taken off, so that only the reclamation of garbage is charged.
+    """
+    s: list[list[float]] = []
+    o: list[list[float]] = []
+    extra: list[tuple[list[float], float, int]] = []
+    for _ in range(rounds):
+        for side, out in ((stock, s), (ours, o)):
+            times, more, found = batch(*side, runs)
+            out.append(times)
+            extra.append((times, more, found))
+    baseline = [more for _, more, found in extra if found == 0]
+    freelists = statistics.median(baseline) if baseline else 0.0
+    for times, more, found in extra:
+        if found:
+            share = max(0.0, more - freelists) / runs
+            times[:] = [x + share for x in times]
+    s_all = [x for b in s for x in b]
+    o_all = [x for b in o for x in b]
+    return s_all[0], statistics.median(s_all), o_all[0], statistics.median(o_all)
 
 
 def child_cpu(cmd: list[str], env: dict[str, str]) -> float:
@@ -116,12 +162,11 @@ def main() -> None:
         def run_ours(c=c, mappings=mappings) -> str:
             return expand(c["input"], mappings, stderr=io.StringIO()).text
 
-        os.environ.pop("ROS_PACKAGE_PATH", None)
-        os.environ["AMENT_PREFIX_PATH"] = str(prefix)
-        s_cold, s_med = cpu(run_stock, a.repeat)
-        os.environ.pop("AMENT_PREFIX_PATH", None)
-        os.environ["ROS_PACKAGE_PATH"] = str(CORPUS / repo)
-        o_cold, o_med = cpu(run_ours, a.repeat)  # its first run is the cold one: check afterwards
+        s_cold, s_med, o_cold, o_med = paired(
+            (run_stock, {"ROS_PACKAGE_PATH": None, "AMENT_PREFIX_PATH": str(prefix)}),
+            (run_ours, {"AMENT_PREFIX_PATH": None, "ROS_PACKAGE_PATH": str(CORPUS / repo)}),
+            a.repeat,
+        )
         assert run_ours() == expected, f"ours differs from stock on {c['id']}"
         row = {"id": c["id"], "stock": s_med, "ours": o_med, "stock_cold": s_cold, "ours_cold": o_cold}
         if not a.no_cli:
@@ -137,7 +182,7 @@ def main() -> None:
             flush=True,
         )
 
-    print("\n== in-process CPU, median of", a.repeat, "runs per case (ours / stock)")
+    print("\n== in-process CPU, median of", 3 * a.repeat, "runs per case (ours / stock)")
     ratios = [r["ours"] / r["stock"] for r in rows]
     print(
         f"cases {len(rows)}  median ratio {statistics.median(ratios):.3f}  "
