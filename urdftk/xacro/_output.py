@@ -68,11 +68,21 @@ def _element(el: Element, indent: str, out: list) -> None:
             kids = c.children
             if not kids:  # a leaf, inlined
                 a = c.attrs
-                if len(a) == 1:
+                n = len(a)
+                if n == 1:
                     ((k, v),) = a.items()
                     if "&" in v or "<" in v or '"' in v or ">" in v:
                         v = _esc(v)
                     out.append(f'{sub}<{c.tag} {k}="{v}"/>\n')
+                elif n == 2:
+                    (k, v), (k2, v2) = a.items()
+                    if k2 < k:
+                        k, v, k2, v2 = k2, v2, k, v
+                    if "&" in v or "<" in v or '"' in v or ">" in v:
+                        v = _esc(v)
+                    if "&" in v2 or "<" in v2 or '"' in v2 or ">" in v2:
+                        v2 = _esc(v2)
+                    out.append(f'{sub}<{c.tag} {k}="{v}" {k2}="{v2}"/>\n')
                 else:
                     out.append(f"{sub}{_head(c.tag, a) if a else '<' + c.tag}/>\n")
             elif len(kids) == 1 and kids[0].__class__ is str:  # one text child, inlined

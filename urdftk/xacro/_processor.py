@@ -290,7 +290,9 @@ class Expander(Tags):
         if self.calls > MAX_CALLS:
             raise XacroError(f"more than {MAX_CALLS} macro calls (exponential macro expansion?)")
         size = m._size
-        self._budget(size if size is not None else m.size)
+        self.copied += size if size is not None else m.size  # _budget, inlined
+        if self.copied > MAX_NODES:
+            self._budget(0)
         stack = self.macro_stack
         if len(stack) >= MAX_DEPTH:
             raise XacroError(self._cycle_message(m))

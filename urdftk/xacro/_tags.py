@@ -279,7 +279,8 @@ class Tags(Context):
         name, value, default, remove, scope, lazy = attrs_of(
             node, ("name",), ("value", "default", "remove", "scope", "lazy_eval"), self
         )
-        name = self.eval_text(name, table)
+        if "$" in name:
+            name = self.eval_text(name, table)
         if not is_valid_name(name):
             raise XacroError(f"Property names must be valid python identifiers: {name}")
         if name.startswith("__"):
@@ -302,7 +303,12 @@ class Tags(Context):
         if value is None:
             name = "**" + name
             value = node
-        self._replace(parent, node, None)
+        children = parent.children  # _replace(parent, node, None), inlined
+        i = self.hint
+        if 0 <= i < len(children) and children[i] is node:
+            del children[i]
+        else:
+            self._replace(parent, node, None)
         lazy = True if not lazy else to_bool(self.eval_text(lazy, table), lazy)
         if scope == "global":
             target = table.top()

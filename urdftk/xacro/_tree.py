@@ -274,7 +274,7 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
     Raises:
         XmlSyntaxError: The text is not well-formed, or declares a DOCTYPE/ENTITY.
     """
-    p = ParserCreate()
+    p = ParserCreate(intern=None)  # (interning names costs more per element than it saves)
     top: list = []
     stack: list = []  # the child lists of the open elements' parents
     push = stack.append
