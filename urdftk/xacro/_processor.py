@@ -14,7 +14,7 @@ from urdftk.xacro._macros import Macro, first_element, resolve_macro
 from urdftk.xacro._scope import Scope
 from urdftk.xacro._symbols import make_root
 from urdftk.xacro._tags import MAX_DEPTH, MAX_NODES, Tags, attrs_of, is_valid_name, to_bool
-from urdftk.xacro._tree import Comment, Element, Text, XmlSyntaxError
+from urdftk.xacro._tree import Comment, Element, Text, XmlSyntaxError, line_of
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -86,17 +86,20 @@ class Expander(Tags):
     def _locate(self, err: XacroError, file: str | None, line: int) -> None:
         if getattr(err, "located", False):
             return
+        line = line_of(file, line)
+        file = str(file) if file is not None else None  # (a plain name, not a SourceName)
         err.located = True  # type: ignore[attr-defined]
         err.xacro_files = list(self.files)  # type: ignore[attr-defined]
         err.xacro_macros = [(m.body.attrs.get("name", m.name), m.def_file) for m, _ in self.macro_stack]  # type: ignore[attr-defined]
         trace = []
         calls = list(reversed(self.macro_stack))
         for m, call in calls[:4]:
-            trace.append(f"  in macro '{m.name}' called at {format_location(call.file, call.line)}")
+            where = format_location(call.file, line_of(call.file, call.line))
+            trace.append(f"  in macro '{m.name}' called at {where}")
         if len(calls) > 4:
             trace.append(f"  ... and {len(calls) - 4} more macro calls")
         for site in reversed(self.include_sites[-4:]):
-            trace.append(f"  included from {format_location(site.file, site.line)}")
+            trace.append(f"  included from {format_location(site.file, line_of(site.file, site.line))}")
         text = err.args[0] if err.args else str(err)
         err.message = text  # type: ignore[attr-defined]
         if isinstance(err, XmlSyntaxError):

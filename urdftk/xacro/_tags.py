@@ -100,7 +100,7 @@ class Tags(Context):
 
     def parse_file(self, name: str) -> tuple[list, Element]:
         """Read and parse a file (name as stock forms it; ``root_dir`` applied)."""
-        return parse_xml(self.read_text(name), name)
+        return parse_xml(self.read_text(name), name, positions=True)
 
     def _budget(self, nodes: int) -> None:
         self.copied += nodes

@@ -20,10 +20,12 @@ __all__ = [
     "CData",
     "Comment",
     "Element",
+    "SourceName",
     "Text",
     "XmlSyntaxError",
     "clone",
     "copy_shallow",
+    "line_of",
     "mark_static",
     "parse_xml",
 ]
@@ -61,9 +63,23 @@ class Element:
     time, as it descends: see :func:`copy_shallow`).
     ``plan`` is set on the ``pure`` elements that are not static (and only there): whether the
     attributes need evaluating, and the indices of the children that do.
+
+    ``line`` is a 1-based line number, or, when ``file`` is a :class:`SourceName` (files parsed
+    with positions), 1 + the byte offset of the start tag: see :func:`line_of`.
     """
 
-    __slots__ = ("attrs", "children", "file", "fixed", "line", "plan", "pure", "shared", "static", "tag")
+    __slots__ = (
+        "attrs",
+        "children",
+        "file",
+        "fixed",
+        "line",
+        "plan",
+        "pure",
+        "shared",
+        "static",
+        "tag",
+    )
 
     def __init__(self, tag: str, attrs: dict[str, str], line: int = 0, file: str | None = None):
         self.tag = tag
@@ -77,7 +93,33 @@ class Element:
         self.pure = False
 
     def __repr__(self) -> str:
-        return f"<Element {self.tag} at line {self.line}>"
+        return f"<Element {self.tag} at line {line_of(self.file, self.line)}>"
+
+
+class SourceName(str):
+    """A file name that also holds the file's text (``text``).
+
+    Elements parsed with positions record byte offsets instead of line numbers (expat counts
+    lines by rescanning the text at each request); the line is only worked out for a message.
+    """
+
+    text: str
+
+    def line_at(self, pos: int) -> int:
+        """The 1-based line of ``pos`` (1 + a byte offset into the UTF-8 text; 0 for unknown)."""
+        if pos <= 0:
+            return 0
+        text = self.text
+        if text.isascii():
+            return text.count("\n", 0, pos - 1) + 1
+        return text.encode().count(b"\n", 0, pos - 1) + 1
+
+
+def line_of(file: str | None, line: int) -> int:
+    """The line number of a node's ``line`` (see :class:`Element`)."""
+    if file.__class__ is SourceName:
+        return file.line_at(line)  # type: ignore[union-attr]
+    return line
 
 
 class Text:
@@ -260,12 +302,18 @@ def _reorder_at(text: str | bytes) -> set[int]:
     return out
 
 
-def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Element]:
+def parse_xml(
+    text: str | bytes, filename: str | None = None, positions: bool = False
+) -> tuple[list, Element]:
     """Parse a document.
 
     Args:
         text: The document (str, or bytes in the encoding it declares).
         filename: Recorded on every element, for error messages.
+        positions: Record byte offsets instead of line numbers, which are worked out only for
+            a message (expat finds a line by rescanning the text since the last request: a
+            tenth of an expansion's time); only for str text with a file name (``file`` is
+            then a :class:`SourceName`).
 
     Returns:
         The document-level nodes (comments, processing instructions, the root element) and the
@@ -283,6 +331,13 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
     cdata = None
     reorder = _reorder_at(text)
 
+    src: str | None = filename
+    if positions and filename is not None and text.__class__ is str:
+        src = SourceName(filename)
+        src.text = text  # type: ignore[attr-defined]
+    else:
+        positions = False
+
     def start(name, attrs):
         nonlocal cur
         el = Element(name, attrs, p.CurrentLineNumber, filename)
@@ -290,12 +345,21 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
         push(cur)
         cur = el.children
 
+    def start_at(name, attrs):  # with positions
+        nonlocal cur
+        el = Element(name, attrs, p.CurrentByteIndex + 1, src)
+        cur.append(el)
+        push(cur)
+        cur = el.children
+
+    begin = start_at if positions else start
+
     def start_reordered(name, attrs):
         if p.CurrentByteIndex in reorder:
             ns = {k: v for k, v in attrs.items() if k == "xmlns" or k.startswith("xmlns:")}
             ns.update(attrs)
             attrs = ns
-        start(name, attrs)
+        begin(name, attrs)
 
     def end(name):
         nonlocal cur
@@ -322,6 +386,9 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
 
     def comment(data):
         cur.append(Comment(data, p.CurrentLineNumber))
+
+    def comment_at(data):  # with positions
+        cur.append(Comment(data, p.CurrentByteIndex + 1))
 
     def pi(target, data):
         cur.append(PI(target, data))
@@ -352,10 +419,10 @@ def parse_xml(text: str | bytes, filename: str | None = None) -> tuple[list, Ele
     if size < 1 << 30:
         p.buffer_size = max(size, 8192)
         text_handler = chars
-    p.StartElementHandler = start_reordered if reorder else start
+    p.StartElementHandler = start_reordered if reorder else begin
     p.EndElementHandler = end
     p.CharacterDataHandler = text_handler
-    p.CommentHandler = comment
+    p.CommentHandler = comment_at if positions else comment
     p.ProcessingInstructionHandler = pi
     p.StartCdataSectionHandler = start_cdata
     p.EndCdataSectionHandler = end_cdata
