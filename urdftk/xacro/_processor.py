@@ -11,7 +11,7 @@ import os
 
 from urdftk.errors import XacroError, close_names, format_location
 from urdftk.xacro._macros import Macro, first_element, resolve_macro
-from urdftk.xacro._scope import Scope
+from urdftk.xacro._scope import Scope, literal
 from urdftk.xacro._symbols import make_root
 from urdftk.xacro._tags import MAX_DEPTH, MAX_NODES, Tags, attrs_of, is_valid_name, to_bool
 from urdftk.xacro._tree import Comment, Element, Text, XmlSyntaxError, line_of
@@ -312,12 +312,17 @@ class Expander(Tags):
         given = node.attrs
         if given:
             param_set = m.param_set
+            root = local.root
             for k, v in given.items():
                 if k not in param_set:
                     hint = close_names(k, [p for p in m.params if p[0] != "*"])
                     extra = f" (did you mean {', '.join(map(repr, hint))}?)" if hint else ""
                     raise XacroError(f'Invalid parameter "{k}" of macro {m.name}{extra}')
-                local.setitem(k, self.eval_text(v, symbols) if "$" in v else v, unevaluated=False)
+                if "$" in v:
+                    v = self.eval_text(v, symbols)
+                if k in root:  # Scope.setitem(k, v, unevaluated=False), inlined (local is new)
+                    self.warn(f"redefining global symbol: {k}")
+                dict.__setitem__(local, k, literal(v))
         children = node.children
         if children:
             self.eval_children(node, macros, symbols)

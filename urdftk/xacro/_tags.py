@@ -89,6 +89,7 @@ class Tags(Context):
         self.empty = Text("\n\n")  # stock's shared blank node, moved by _drop_comments
         self.hint = 0  # likely index of the node a tag handler works on
         self.include_keys: list[str] = []
+        self._include_key: dict[str, str] = {}  # file name -> its absolute path (for include_keys)
         self.copied = 0
         self.parsed: dict[str, Element | None] = {}  # included file -> its shared tree, if included again
 
@@ -252,7 +253,9 @@ class Tags(Context):
         return clone(tree)
 
     def _check_include_cycle(self, name: str) -> str:
-        key = os.path.normpath(os.path.abspath(self.open_path(name)))
+        key = self._include_key.get(name)
+        if key is None:  # (abspath asks the OS for the current directory every time)
+            key = self._include_key[name] = os.path.normpath(os.path.abspath(self.open_path(name)))
         stack = self.include_keys
         if key in stack:
             k = stack.index(key)
