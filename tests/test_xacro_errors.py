@@ -134,3 +134,26 @@ def test_missing_include_suggests_files(tmp_path: Path):
 def test_optional_include_missing_is_fine():
     out = process_string(f'<r {NS}><xacro:include filename="nope.xacro" optional="true"/><a/></r>')
     assert out.endswith("<r>\n  <a/>\n</r>\n")
+
+
+def test_line_numbers_count_lines_not_bytes(tmp_path: Path):
+    # files are parsed with byte positions and lines are worked out for the message: multi-byte
+    # text before the error must not shift the line
+    inc = tmp_path / "inc.xacro"
+    inc.write_text(
+        f'<?xml version="1.0"?>\n<r {NS}>\n  <!-- ünïcödé ✓ ✓ ✓ -->\n'
+        '  <xacro:macro name="m" params="a">\n    <link name="${a}">\n'
+        "      <visual>ßß ${undefined_thing}</visual>\n    </link>\n  </xacro:macro>\n</r>\n",
+        encoding="utf-8",
+    )
+    main = tmp_path / "main.xacro"
+    main.write_text(
+        f'<robot {NS} name="x">\n  <!-- é -->\n  <xacro:include filename="inc.xacro"/>\n\n'
+        '  <xacro:m a="x"/>\n</robot>\n',
+        encoding="utf-8",
+    )
+    msg = error_of(process_file, main)
+    first, *trace = msg.splitlines()
+    want = next(i for i, line in enumerate(inc.read_text().splitlines(), 1) if "undefined_thing" in line)
+    assert first.startswith(f"{inc}:{want}: name 'undefined_thing' is not defined"), first
+    assert trace == [f"  in macro 'm' called at {main}:5"]

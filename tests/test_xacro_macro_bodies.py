@@ -100,3 +100,29 @@ def test_error_in_text_of_a_macro_body_names_its_element(tmp_path: Path):
     first, *trace = str(info.value).splitlines()
     assert first.startswith(f"{main}:5: name 'missing' is not defined")
     assert trace == [f"  in macro 'm' called at {main}:9"]
+
+
+def test_parameter_listed_twice_matches_stock(tmp_path: Path):
+    # stock takes one occurrence of a name off the list per argument: the other one gets its
+    # default (or is reported missing)
+    main = tmp_path / "dup.xacro"
+    main.write_text(
+        f'<robot {NS} name="d">\n  <xacro:macro name="m" params="a a:=5 b">\n'
+        '    <x a="${a}" b="${b}"/>\n  </xacro:macro>\n  <xacro:m a="1" b="2"/>\n</robot>\n'
+    )
+    assert process_file(main) == stock(main)
+    missing = tmp_path / "missing.xacro"
+    missing.write_text(main.read_text().replace('a="1" b="2"', 'b="2"'))
+    assert process_file(missing) == stock(missing)  # the default fills both occurrences
+
+
+def test_macro_defined_in_an_include_inside_a_macro_lifts_namespaces(tmp_path: Path):
+    # an include in a macro body adds the included root's namespaces to the body, and the call
+    # hands them on to its parent (stock's test_xml_namespace_lifting, from a file)
+    (tmp_path / "ns.xml").write_text('<a xmlns:b="http://www.ros.org/b"/>')
+    main = tmp_path / "lift.xacro"
+    main.write_text(
+        f'<a {NS} xmlns:a="http://www.ros.org/a">\n  <xacro:macro name="test">\n'
+        '    <xacro:include filename="ns.xml"/>\n  </xacro:macro>\n  <xacro:test/>\n</a>\n'
+    )
+    assert process_file(main) == stock(main)
