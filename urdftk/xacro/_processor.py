@@ -147,15 +147,17 @@ class Expander(Tags):
         order; a pure subtree has nothing else (no xacro tag, no comment to evaluate), and its
         ``plan`` says which attributes and children change.
         """
-        new = Element(el.tag, el.attrs, el.line, el.file)
+        if el.fixed:
+            new = Element(el.tag, el.attrs, el.line, el.file, el.children)
+            new.fixed = True
+            if el.plan[0]:
+                self._eval_attrs(new, symbols)
+            return new
+        kids = el.children.copy()
+        new = Element(el.tag, el.attrs, el.line, el.file, kids)
         dynamic_attrs, dynamic = el.plan
         if dynamic_attrs:
             self._eval_attrs(new, symbols)
-        if el.fixed:
-            new.children = el.children
-            new.fixed = True
-            return new
-        kids = new.children = el.children.copy()
         try:
             for i in dynamic:
                 c = kids[i]
@@ -198,12 +200,11 @@ class Expander(Tags):
                             children[i] = self._instantiate(node, symbols)
                             i += 1
                             continue
-                        new = Element(node.tag, node.attrs, node.line, node.file)  # copy_shallow, inlined
-                        if node.fixed:
-                            new.children = node.children
+                        if node.fixed:  # copy_shallow, inlined
+                            new = Element(node.tag, node.attrs, node.line, node.file, node.children)
                             new.fixed = True
                         else:
-                            new.children = node.children.copy()
+                            new = Element(node.tag, node.attrs, node.line, node.file, node.children.copy())
                         node = children[i] = new
                     tag = node.tag
                     if tag[:6] != "xacro:":  # eval_all, inlined (node is not static here)
@@ -300,12 +301,11 @@ class Expander(Tags):
         if len(stack) >= MAX_DEPTH:
             raise XacroError(self._cycle_message(m))
         src = m.body  # copy_shallow, inlined: the walk copies the rest as it goes
-        body = Element(src.tag, src.attrs, src.line, src.file)
         if src.fixed:
-            body.children = src.children
+            body = Element(src.tag, src.attrs, src.line, src.file, src.children)
             body.fixed = True
         else:
-            body.children = src.children.copy()
+            body = Element(src.tag, src.attrs, src.line, src.file, src.children.copy())
         stack.append((m, node))
         local = Scope(scoped_symbols)
         local_macros = Scope(scoped_macros)

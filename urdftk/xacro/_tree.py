@@ -81,10 +81,17 @@ class Element:
         "tag",
     )
 
-    def __init__(self, tag: str, attrs: dict[str, str], line: int = 0, file: str | None = None):
+    def __init__(
+        self,
+        tag: str,
+        attrs: dict[str, str],
+        line: int = 0,
+        file: str | None = None,
+        children: list | None = None,
+    ):
         self.tag = tag
         self.attrs = attrs
-        self.children: list = []
+        self.children: list = [] if children is None else children
         self.line = line
         self.file = file
         self.static = False
@@ -172,13 +179,11 @@ def copy_shallow(el: Element) -> Element:
     Returns:
         The copy (not ``shared``).
     """
-    new = Element(el.tag, el.attrs, el.line, el.file)
     if el.fixed:
-        new.children = el.children
+        new = Element(el.tag, el.attrs, el.line, el.file, el.children)
         new.fixed = True
-    else:
-        new.children = el.children.copy()
-    return new
+        return new
+    return Element(el.tag, el.attrs, el.line, el.file, el.children.copy())
 
 
 def clone(el: Element) -> Element:
@@ -193,11 +198,11 @@ def clone(el: Element) -> Element:
     Returns:
         The copy.
     """
-    new = Element(el.tag, el.attrs, el.line, el.file)
     if el.fixed:  # nothing ever edits this list: share it
-        new.children = el.children
+        new = Element(el.tag, el.attrs, el.line, el.file, el.children)
         new.fixed = True
         return new
+    new = Element(el.tag, el.attrs, el.line, el.file)
     kids = new.children
     for c in el.children:
         cls = c.__class__
