@@ -147,8 +147,12 @@ class Tags(Context):
         empty = self.empty
         if move and nxt is not None and nxt is not empty:
             old = empty.parent
-            if old is parent:  # usually just before node: keep i right without a search
-                k = index_of(children, empty, i - 1)
+            if old is parent:  # usually a few places before node: look back by identity
+                k = i - 1
+                while k >= 0 and children[k] is not empty:
+                    k -= 1
+                if k < 0:
+                    k = index_of(children, empty, i)
                 del children[k]
                 if k < i:
                     i -= 1
@@ -278,6 +282,24 @@ class Tags(Context):
                     parent.attrs = {**parent.attrs, k: v}
 
     def _property(self, parent: Element, node: Element, macros: Scope, table: Scope) -> None:
+        attrs = node.attrs
+        if len(attrs) == 2:  # the common form, name="n" value="v": what the general path does
+            name = attrs.get("name")
+            value = attrs.get("value")
+            if name is not None and value is not None and "$" not in name:
+                if not is_valid_name(name):
+                    raise XacroError(f"Property names must be valid python identifiers: {name}")
+                if name[:2] == "__":
+                    raise XacroError(f"Property names must not start with double underscore:{name}")
+                self._drop_comments(parent, node)
+                children = parent.children  # _replace(parent, node, None), inlined
+                i = self.hint
+                if 0 <= i < len(children) and children[i] is node:
+                    del children[i]
+                else:
+                    self._replace(parent, node, None)
+                table.setitem(name, value, unevaluated=True)
+                return
         self._drop_comments(parent, node)
         name, value, default, remove, scope, lazy = attrs_of(
             node, ("name",), ("value", "default", "remove", "scope", "lazy_eval"), self
