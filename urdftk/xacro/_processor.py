@@ -13,7 +13,7 @@ from urdftk.errors import XacroError, close_names, format_location
 from urdftk.xacro._macros import Macro, first_element, resolve_macro
 from urdftk.xacro._scope import Scope, literal
 from urdftk.xacro._symbols import make_root
-from urdftk.xacro._tags import MAX_DEPTH, MAX_NODES, Tags, attrs_of, is_valid_name, to_bool
+from urdftk.xacro._tags import MAX_DEPTH, MAX_NODES, Tags, attrs_of, index_of, is_valid_name, to_bool
 from urdftk.xacro._tree import Comment, Element, Text, XmlSyntaxError, line_of
 
 TYPE_CHECKING = False
@@ -282,7 +282,11 @@ class Expander(Tags):
         name = node.tag[6:]
         hint = self.hint
         try:
-            scoped_macros, scoped_symbols, m = resolve_macro(name, macros, symbols)
+            try:  # resolve_macro, inlined for a name without a namespace
+                m = macros[name]
+                scoped_macros, scoped_symbols = macros, symbols
+            except KeyError:
+                scoped_macros, scoped_symbols, m = resolve_macro(name, macros, symbols)
         except KeyError:
             known = macros.visible_names()
             hint = close_names(name, known)
@@ -356,12 +360,23 @@ class Expander(Tags):
                 missing.append(p)
         if missing:
             raise XacroError(f"Undefined parameters [{','.join(missing)}] of macro {m.name}")
-        self.eval_all(body, local_macros, local)
+        for k, v in body.attrs.items():  # eval_all, inlined (the body is a fresh copy)
+            if "$" in v or k[:6] == "xacro:" or k == "xmlns:xacro":
+                self._eval_attrs(body, local)
+                break
+        if body.children and not body.fixed:
+            self.eval_children(body, local_macros, local)
         self.hint = hint
         self._drop_comments(parent, node)
         if m.has_ns or body.attrs is not src.attrs:  # (an include in the body may add some)
             self._import_namespaces(parent, body.attrs)
-        self._replace(parent, node, [body])
+        children = parent.children  # _replace(parent, node, [body]), inlined
+        i = self.hint
+        if not (0 <= i < len(children) and children[i] is node):
+            i = index_of(children, node, i)
+        children[i : i + 1] = body.children
+        if self.empty.parent is body:
+            self.empty.parent = parent
         stack.pop()
 
     def _default(self, forward: str | None, default: str | None, symbols: Scope) -> Any:
