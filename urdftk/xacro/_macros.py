@@ -5,7 +5,8 @@ from __future__ import annotations
 import re
 from functools import lru_cache
 
-from urdftk.xacro._tree import Element, mark_static
+from urdftk.xacro._share import mark_static
+from urdftk.xacro._tree import Element
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:

@@ -14,7 +14,8 @@ from urdftk.errors import XacroError, close_names
 from urdftk.xacro._context import Context, IncludeIOError
 from urdftk.xacro._macros import Macro, first_element, tree_size
 from urdftk.xacro._scope import NameSpace, Scope
-from urdftk.xacro._tree import Comment, Element, Text, clone, mark_static, parse_xml
+from urdftk.xacro._share import clone, mark_static
+from urdftk.xacro._tree import Comment, Element, Text, parse_xml
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
