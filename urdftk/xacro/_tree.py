@@ -63,6 +63,14 @@ class Element:
 
     ``line`` is a 1-based line number, or, when ``file`` is a :class:`SourceName` (files parsed
     with positions), 1 + the byte offset of the start tag: see :func:`line_of`.
+
+    Args:
+        tag: The qualified name.
+        attrs: The attributes (never edited in place: edits replace the dict).
+        line: See above.
+        file: The file name, for messages.
+        children: The child list to take (a copy passes its source's list, or a copy of it);
+            a new empty list when None.
     """
 
     __slots__ = (
