@@ -7,7 +7,7 @@ Usage: python bench/xacro.py [--repeat N] [--only SUBSTRING] [--no-cli]
    the median of the 3N runs; also the first (cold) run of each. Each side pays for reclaiming
    its own garbage, and only its own (see ``batch``).
 2. Whole-process CPU time (child rusage) of the ``urdftk xacro`` command against the stock
-   ``xacro`` command, per case (median of N runs each, the two commands alternating).
+   ``xacro`` command, per case (median of 2N+1 runs each, the two commands alternating).
 
 Stock resolves ``$(find)`` through ament_index_python: it gets a temporary ament prefix with the
 corpus packages; ours gets ROS_PACKAGE_PATH, as in the corpus checker. Ours must reproduce the
@@ -173,7 +173,7 @@ def main() -> None:
             row["cli_stock"], row["cli_ours"] = cli_pair(
                 ([str(BIN / "xacro"), c["input"], *args], env_stock),
                 ([str(BIN / "urdftk"), "xacro", c["input"], *args], env_ours),
-                a.repeat,
+                2 * a.repeat + 1,  # (a start-up costs tens of ms, measured in scheduler ticks: more runs)
             )
         rows.append(row)
         print(
