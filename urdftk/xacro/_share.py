@@ -64,7 +64,10 @@ def _plain_attrs(attrs: dict[str, str]) -> bool:
 
     Conservative: any attribute name containing "xacro" (``xacro:*``, ``xmlns:xacro``) counts.
     """
-    return "$" not in "".join(attrs.values()) and "xacro" not in " ".join(attrs)
+    for k, v in attrs.items():
+        if "$" in v or "xacro" in k:
+            return False
+    return True
 
 
 def mark_static(el: Element) -> int:
