@@ -177,8 +177,9 @@ class Expander(Tags):
         node: Any = None
         eval_comments = False
         tags = _TAGS
+        n = len(children)  # kept up to date after every edit that changes it
         try:
-            while i < len(children):
+            while i < n:
                 node = children[i]
                 cls = node.__class__
                 if cls is str:
@@ -217,16 +218,13 @@ class Expander(Tags):
                         if node.children and not node.fixed:
                             self.eval_children(node, macros, symbols)
                             # nested edits can only take the shared blank node out of this list
-                            if i >= len(children) or children[i] is not node:
-                                i = (
-                                    i - 1
-                                    if 0 < i <= len(children) and children[i - 1] is node
-                                    else children.index(node)
-                                )
+                            n = len(children)
+                            if i >= n or children[i] is not node:
+                                i = i - 1 if 0 < i <= n and children[i - 1] is node else children.index(node)
                         i += 1
                         continue
-                    n_before = len(children)
-                    nxt = children[i + 1] if i + 1 < n_before else None
+                    n_before = n
+                    nxt = children[i + 1] if i + 1 < n else None
                     self.hint = i
                     handler = tags.get(tag)
                     if handler is not None:
@@ -243,8 +241,9 @@ class Expander(Tags):
                     if nxt is None:
                         break
                     # every edit is before nxt, so its new index follows from the length change
-                    i = i + 1 + len(children) - n_before
-                    if not (0 <= i < len(children) and children[i] is nxt):
+                    n = len(children)
+                    i = i + 1 + n - n_before
+                    if not (0 <= i < n and children[i] is nxt):
                         break  # nxt (stock's shared blank node) moved to another list: stock stops too
                     continue
                 if cls is Comment:
@@ -252,6 +251,7 @@ class Expander(Tags):
                     if "xacro:eval-comments" in data:
                         eval_comments = "xacro:eval-comments:off" not in data
                         del children[i]
+                        n -= 1
                         continue
                     if eval_comments and "$" in data:
                         children[i] = Comment(str(self.eval_text(data, symbols)), node.line)
