@@ -12,6 +12,7 @@ import os
 from urdftk.errors import XacroError, close_names, format_location
 from urdftk.xacro._macros import Macro, first_element, resolve_macro
 from urdftk.xacro._scope import Scope, literal
+from urdftk.xacro._share import copy_shallow
 from urdftk.xacro._symbols import make_root
 from urdftk.xacro._tags import MAX_DEPTH, MAX_NODES, Tags, attrs_of, index_of, is_valid_name, to_bool
 from urdftk.xacro._tree import Comment, Element, Text, XmlSyntaxError, line_of
@@ -304,12 +305,8 @@ class Expander(Tags):
         stack = self.macro_stack
         if len(stack) >= MAX_DEPTH:
             raise XacroError(self._cycle_message(m))
-        src = m.body  # copy_shallow, inlined: the walk copies the rest as it goes
-        if src.fixed:
-            body = Element(src.tag, src.attrs, src.line, src.file, src.children)
-            body.fixed = True
-        else:
-            body = Element(src.tag, src.attrs, src.line, src.file, src.children.copy())
+        src = m.body
+        body = copy_shallow(src)  # the walk copies the rest as it goes
         stack.append((m, node))
         local = Scope(scoped_symbols)
         local_macros = Scope(scoped_macros)

@@ -329,12 +329,7 @@ class Tags(Context):
         if value is None:
             name = "**" + name
             value = node
-        children = parent.children  # _replace(parent, node, None), inlined
-        i = self.hint
-        if 0 <= i < len(children) and children[i] is node:
-            del children[i]
-        else:
-            self._replace(parent, node, None)
+        self._replace(parent, node, None)
         lazy = True if not lazy else to_bool(self.eval_text(lazy, table), lazy)
         if scope == "global":
             target = table.top()
